@@ -1,0 +1,72 @@
+/* SPDX-License-Identifier: GPL-2.0-only */
+/*
+ * sentral-warmstart: the interface both backends implement.
+ *
+ * "driver" talks to the em7180 IIO driver through sysfs; "i2c" speaks the
+ * chip's register protocol itself over /dev/i2c-N when no driver is bound.
+ * Every operation returns SW_EXIT_OK or an exit code with e->msg set.
+ */
+#ifndef SW_BACKEND_H
+#define SW_BACKEND_H
+
+#include "sw.h"
+
+struct sw_backend;
+
+struct sw_backend_ops {
+	int (*chip_info)(struct sw_backend *b, struct sw_chip_info *ci,
+			 struct sw_err *e);
+	int (*cal_state)(struct sw_backend *b, struct sw_cal_state *cs,
+			 struct sw_err *e);
+	int (*read_blob)(struct sw_backend *b, uint8_t *blob,
+			 struct sw_err *e);
+	int (*write_blob)(struct sw_backend *b, const uint8_t *blob,
+			  struct sw_err *e);
+	/* One sample of the scaled accelerometer output, LSB. */
+	int (*accel_raw)(struct sw_backend *b, int xyz[3], struct sw_err *e);
+	/* Accelerometer offsets (parameters 27..29) in LSB. */
+	int (*accel_offset_get)(struct sw_backend *b, int lsb[3],
+				struct sw_err *e);
+	int (*accel_offset_set)(struct sw_backend *b, const int lsb[3],
+				struct sw_err *e);
+	void (*close)(struct sw_backend *b);
+};
+
+struct sw_backend {
+	const struct sw_backend_ops *ops;
+	const char *kind;	/* "driver" or "i2c" */
+	char name[128];		/* "iio:device0" or "/dev/i2c-0 0x28" */
+	char key[128];		/* saved-file key, see sw_sanitize_key() */
+};
+
+/* Keep [A-Za-z0-9._-], replace anything else by '_'; never empty. */
+void sw_sanitize_key(const char *in, char *out, size_t len);
+
+struct sw_iio_opts {
+	const char *device;	/* --device, NULL: the single em7180 */
+};
+
+int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
+		struct sw_err *e);
+
+struct sw_i2c_opts {
+	const char *dev;	/* /dev/i2c-N */
+	unsigned int addr;	/* 7-bit, default 0x28 */
+	bool force;		/* even when a kernel driver is bound */
+};
+
+int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
+		struct sw_err *e);
+
+/*
+ * Raw register access shared by the i2c backend and the driver backend's
+ * identity read: combined write-register/read transfers through
+ * I2C_RDWR, atomic on the bus, so a bound driver is not disturbed.
+ */
+int sw_i2c_bus_read(int fd, unsigned int addr, uint8_t reg, uint8_t *buf,
+		    size_t len);
+int sw_i2c_bus_write(int fd, unsigned int addr, uint8_t reg,
+		     const uint8_t *buf, size_t len);
+int sw_i2c_read_chip_info(int fd, unsigned int addr, struct sw_chip_info *ci);
+
+#endif

@@ -1,0 +1,399 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * sentral-warmstart: i2c-dev backend, the chip's own register protocol.
+ *
+ * Parameter transfer as EM7180 register reference §2 gives it (sources:
+ * [2+] EM generic host driver, Sony em718x), with the seed app note's
+ * errors corrected: AlgorithmControl bit 7 is set once per batch; each
+ * parameter is one 5-byte burst LoadParamByte0..3 + ParamRequest
+ * (0x60..0x64), or ParamRequest alone for a read; ParamAcknowledge and
+ * SavedParamByte0..3 (0x3A..0x3E) are polled in one 5-byte read; the
+ * batch always ends with ParamRequest = 0 and bit 7 cleared, on error
+ * paths too, so the fusion algorithm is never left paused.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <i2c/smbus.h>
+#include <linux/i2c-dev.h>
+#include <linux/i2c.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "backend.h"
+
+#define REG_ACCEL	0x1a
+#define REG_PARAM_ACK	0x3a
+#define REG_CAL_STATUS	0x43
+#define REG_CAL_SCORE	0x4d
+#define REG_ALGO_CTRL	0x54
+#define ALGO_PARAM_PROC	0x80
+#define REG_LOAD_PARAM	0x60
+#define REG_PARAM_REQ	0x64
+#define PARAM_WRITE	0x80
+#define REG_ROM_VERSION	0x70
+#define REG_PRODUCT_ID	0x90
+#define EM7180_PRODUCT_ID 0x80
+
+/* Drivers in the wild allow up to 1 s for an acknowledge. */
+#define ACK_TIMEOUT_US	1000000
+#define ACK_POLL_US	100
+
+struct i2c_be {
+	struct sw_backend b;
+	int fd;
+	unsigned int addr;
+	/* Acknowledge latency seen so far: the first poll waits about that. */
+	long ack_us;
+};
+
+static uint64_t now_us(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
+}
+
+static void sleep_us(long us)
+{
+	struct timespec ts = { us / 1000000, (us % 1000000) * 1000 };
+
+	while (nanosleep(&ts, &ts) < 0 && errno == EINTR)
+		;
+}
+
+/*
+ * SMBus-only adapters cannot do I2C_RDWR; fall back to libi2c's I2C block
+ * transfers, which are single transactions as well.
+ */
+static int smbus_select(int fd, unsigned int addr)
+{
+	if (ioctl(fd, I2C_SLAVE, addr) == 0)
+		return 0;
+	if (errno == EBUSY)
+		return ioctl(fd, I2C_SLAVE_FORCE, addr);
+	return -1;
+}
+
+int sw_i2c_bus_read(int fd, unsigned int addr, uint8_t reg, uint8_t *buf,
+		    size_t len)
+{
+	struct i2c_msg msgs[2] = {
+		{ .addr = (uint16_t)addr, .flags = 0, .len = 1, .buf = &reg },
+		{ .addr = (uint16_t)addr, .flags = I2C_M_RD,
+		  .len = (uint16_t)len, .buf = buf },
+	};
+	struct i2c_rdwr_ioctl_data xfer = { .msgs = msgs, .nmsgs = 2 };
+
+	if (ioctl(fd, I2C_RDWR, &xfer) == 2)
+		return 0;
+	if (errno != EOPNOTSUPP || len > I2C_SMBUS_BLOCK_MAX)
+		return -1;
+	if (smbus_select(fd, addr) < 0)
+		return -1;
+	if (i2c_smbus_read_i2c_block_data(fd, reg, (uint8_t)len, buf) !=
+	    (int)len) {
+		errno = EIO;
+		return -1;
+	}
+	return 0;
+}
+
+int sw_i2c_bus_write(int fd, unsigned int addr, uint8_t reg,
+		     const uint8_t *buf, size_t len)
+{
+	uint8_t tx[1 + I2C_SMBUS_BLOCK_MAX];
+	struct i2c_msg msg = {
+		.addr = (uint16_t)addr, .flags = 0, .len = (uint16_t)(len + 1),
+		.buf = tx,
+	};
+	struct i2c_rdwr_ioctl_data xfer = { .msgs = &msg, .nmsgs = 1 };
+
+	if (len > I2C_SMBUS_BLOCK_MAX) {
+		errno = EINVAL;
+		return -1;
+	}
+	tx[0] = reg;
+	memcpy(tx + 1, buf, len);
+	if (ioctl(fd, I2C_RDWR, &xfer) == 1)
+		return 0;
+	if (errno != EOPNOTSUPP)
+		return -1;
+	if (smbus_select(fd, addr) < 0)
+		return -1;
+	return i2c_smbus_write_i2c_block_data(fd, reg, (uint8_t)len, buf) < 0 ?
+	       -1 : 0;
+}
+
+int sw_i2c_read_chip_info(int fd, unsigned int addr, struct sw_chip_info *ci)
+{
+	uint8_t id[2], ver[4];
+
+	if (sw_i2c_bus_read(fd, addr, REG_PRODUCT_ID, id, 2) < 0 ||
+	    sw_i2c_bus_read(fd, addr, REG_ROM_VERSION, ver, 4) < 0)
+		return -1;
+	ci->product_id = id[0];
+	ci->revision_id = id[1];
+	ci->rom_version = sw_get_le16(ver);
+	ci->ram_version = sw_get_le16(ver + 2);
+	return 0;
+}
+
+static struct i2c_be *to_i2c(struct sw_backend *b)
+{
+	return (struct i2c_be *)b;
+}
+
+static int bus_err(struct i2c_be *ib, const char *what, uint8_t reg,
+		   struct sw_err *e)
+{
+	return sw_err_set(e, SW_EXIT_IO, "%s: %s register 0x%02x failed: %s",
+			  ib->b.name, what, reg, strerror(errno));
+}
+
+/* Wait for ParamAcknowledge == req, then return SavedParamByte0..3. */
+static int param_wait_ack(struct i2c_be *ib, uint8_t req, uint8_t *val,
+			  struct sw_err *e)
+{
+	uint64_t start = now_us();
+	uint8_t buf[5];
+
+	if (ib->ack_us > ACK_POLL_US)
+		sleep_us(ib->ack_us - ACK_POLL_US);
+	for (;;) {
+		uint64_t t;
+
+		if (sw_i2c_bus_read(ib->fd, ib->addr, REG_PARAM_ACK, buf, 5) < 0)
+			return bus_err(ib, "reading", REG_PARAM_ACK, e);
+		t = now_us() - start;
+		if (buf[0] == req) {
+			/* Learn the chip's latency: a cheap moving average. */
+			ib->ack_us = (ib->ack_us * 3 + (long)t) / 4;
+			if (val)
+				memcpy(val, buf + 1, 4);
+			return SW_EXIT_OK;
+		}
+		if (t > ACK_TIMEOUT_US)
+			return sw_err_set(e, SW_EXIT_IO,
+					  "%s: parameter %u not acknowledged within %d ms (ParamAcknowledge 0x%02x)",
+					  ib->b.name, req & 0x7f,
+					  ACK_TIMEOUT_US / 1000, buf[0]);
+		sleep_us(ACK_POLL_US);
+	}
+}
+
+/*
+ * Transfer count parameters first..first+count-1. vals holds 4 LE bytes
+ * per parameter: the values to write (write) or the values read.
+ */
+static int param_batch(struct i2c_be *ib, int first, int count, bool write,
+		       uint8_t *vals, struct sw_err *e)
+{
+	uint8_t ac, v, zero = 0, burst[5];
+	int i, ret = SW_EXIT_OK;
+
+	if (sw_i2c_bus_read(ib->fd, ib->addr, REG_ALGO_CTRL, &ac, 1) < 0)
+		return bus_err(ib, "reading", REG_ALGO_CTRL, e);
+	v = ac | ALGO_PARAM_PROC;
+	if (sw_i2c_bus_write(ib->fd, ib->addr, REG_ALGO_CTRL, &v, 1) < 0) {
+		ret = bus_err(ib, "writing", REG_ALGO_CTRL, e);
+		goto end;
+	}
+	for (i = 0; i < count; i++) {
+		uint8_t req = (uint8_t)(first + i);
+
+		if (write) {
+			req |= PARAM_WRITE;
+			memcpy(burst, vals + 4 * i, 4);
+			burst[4] = req;
+			if (sw_i2c_bus_write(ib->fd, ib->addr, REG_LOAD_PARAM,
+					     burst, 5) < 0) {
+				ret = bus_err(ib, "writing", REG_LOAD_PARAM, e);
+				goto end;
+			}
+		} else if (sw_i2c_bus_write(ib->fd, ib->addr, REG_PARAM_REQ,
+					    &req, 1) < 0) {
+			ret = bus_err(ib, "writing", REG_PARAM_REQ, e);
+			goto end;
+		}
+		ret = param_wait_ack(ib, req, write ? NULL : vals + 4 * i, e);
+		if (ret)
+			goto end;
+	}
+end:
+	/* Always leave transfer mode and let the algorithm run again. */
+	v = ac & (uint8_t)~ALGO_PARAM_PROC;
+	if (sw_i2c_bus_write(ib->fd, ib->addr, REG_PARAM_REQ, &zero, 1) < 0)
+		ret = ret ? ret : bus_err(ib, "writing", REG_PARAM_REQ, e);
+	if (sw_i2c_bus_write(ib->fd, ib->addr, REG_ALGO_CTRL, &v, 1) < 0)
+		ret = ret ? ret : bus_err(ib, "writing", REG_ALGO_CTRL, e);
+	return ret;
+}
+
+static int i2c_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
+			 struct sw_err *e)
+{
+	struct i2c_be *ib = to_i2c(b);
+
+	if (sw_i2c_read_chip_info(ib->fd, ib->addr, ci) < 0)
+		return bus_err(ib, "reading", REG_PRODUCT_ID, e);
+	return SW_EXIT_OK;
+}
+
+static int i2c_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
+			 struct sw_err *e)
+{
+	struct i2c_be *ib = to_i2c(b);
+	uint8_t st[2], sc[2];
+
+	if (sw_i2c_bus_read(ib->fd, ib->addr, REG_CAL_STATUS, st, 2) < 0)
+		return bus_err(ib, "reading", REG_CAL_STATUS, e);
+	if (sw_i2c_bus_read(ib->fd, ib->addr, REG_CAL_SCORE, sc, 2) < 0)
+		return bus_err(ib, "reading", REG_CAL_SCORE, e);
+	cs->status = st[0] & 3;
+	cs->mag_transient = (st[0] >> 2) & 3;
+	cs->mag_cal_update = st[1] & 1;
+	cs->gyro_bias_update = (st[1] >> 1) & 1;
+	cs->score_raw = sw_get_le16(sc);
+	return SW_EXIT_OK;
+}
+
+static int i2c_read_blob(struct sw_backend *b, uint8_t *blob,
+			 struct sw_err *e)
+{
+	return param_batch(to_i2c(b), 1, SW_NPARAMS, false, blob, e);
+}
+
+static int i2c_write_blob(struct sw_backend *b, const uint8_t *blob,
+			  struct sw_err *e)
+{
+	uint8_t tmp[SW_BLOB_SIZE];
+
+	memcpy(tmp, blob, sizeof(tmp));
+	return param_batch(to_i2c(b), 1, SW_NPARAMS, true, tmp, e);
+}
+
+static int i2c_accel_raw(struct sw_backend *b, int xyz[3], struct sw_err *e)
+{
+	struct i2c_be *ib = to_i2c(b);
+	uint8_t buf[6];
+	int i;
+
+	if (sw_i2c_bus_read(ib->fd, ib->addr, REG_ACCEL, buf, 6) < 0)
+		return bus_err(ib, "reading", REG_ACCEL, e);
+	for (i = 0; i < 3; i++)
+		xyz[i] = (int16_t)sw_get_le16(buf + 2 * i);
+	return SW_EXIT_OK;
+}
+
+static int i2c_accel_offset_get(struct sw_backend *b, int lsb[3],
+				struct sw_err *e)
+{
+	uint8_t vals[12];
+	int i, ret;
+
+	ret = param_batch(to_i2c(b), SW_PARAM_ACCEL_X, 3, false, vals, e);
+	if (ret)
+		return ret;
+	for (i = 0; i < 3; i++)
+		lsb[i] = sw_g_to_lsb(sw_blob_param(vals, i + 1));
+	return SW_EXIT_OK;
+}
+
+static int i2c_accel_offset_set(struct sw_backend *b, const int lsb[3],
+				struct sw_err *e)
+{
+	uint8_t vals[12];
+	int i;
+
+	for (i = 0; i < 3; i++)
+		sw_blob_set_param(vals, i + 1, sw_lsb_to_g(lsb[i]));
+	return param_batch(to_i2c(b), SW_PARAM_ACCEL_X, 3, true, vals, e);
+}
+
+static void i2c_close(struct sw_backend *b)
+{
+	struct i2c_be *ib = to_i2c(b);
+
+	close(ib->fd);
+	free(ib);
+}
+
+static const struct sw_backend_ops i2c_ops = {
+	.chip_info = i2c_chip_info,
+	.cal_state = i2c_cal_state,
+	.read_blob = i2c_read_blob,
+	.write_blob = i2c_write_blob,
+	.accel_raw = i2c_accel_raw,
+	.accel_offset_get = i2c_accel_offset_get,
+	.accel_offset_set = i2c_accel_offset_set,
+	.close = i2c_close,
+};
+
+int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
+		struct sw_err *e)
+{
+	char client[64], path[160];
+	unsigned int bus;
+	const char *base;
+	struct i2c_be *ib;
+	struct stat st;
+	uint8_t id;
+	int fd;
+
+	base = strrchr(o->dev, '/');
+	base = base ? base + 1 : o->dev;
+	if (sscanf(base, "i2c-%u", &bus) != 1)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "--i2c %s: expected a device like /dev/i2c-0",
+				  o->dev);
+	snprintf(client, sizeof(client), "%u-%04x", bus, o->addr);
+
+	/*
+	 * Two masters of one chip would corrupt each other's parameter
+	 * transfers: leave a bound driver alone unless told otherwise.
+	 */
+	snprintf(path, sizeof(path), "/sys/bus/i2c/devices/%s/driver", client);
+	if (!o->force && lstat(path, &st) == 0)
+		return sw_err_set(e, SW_EXIT_DEVICE,
+				  "a kernel driver is bound to %s (0x%02x on %s); use the driver (omit --i2c), unbind it with 'echo %s > %s/unbind', or pass --force",
+				  client, o->addr, o->dev, client, path);
+
+	fd = open(o->dev, O_RDWR | O_CLOEXEC);
+	if (fd < 0)
+		return sw_err_set(e, errno == ENOENT ? SW_EXIT_DEVICE : SW_EXIT_IO,
+				  "%s: %s%s", o->dev, strerror(errno),
+				  errno == ENOENT ? " (is the i2c-dev module loaded?)" : "");
+	if (sw_i2c_bus_read(fd, o->addr, REG_PRODUCT_ID, &id, 1) < 0) {
+		int err = errno;
+
+		close(fd);
+		return sw_err_set(e, SW_EXIT_DEVICE,
+				  "%s: no device answers at 0x%02x: %s", o->dev,
+				  o->addr, strerror(err));
+	}
+	if (id != EM7180_PRODUCT_ID) {
+		close(fd);
+		return sw_err_set(e, SW_EXIT_DEVICE,
+				  "%s: device at 0x%02x is not an EM7180 (ProductID 0x%02x, expected 0x%02x)",
+				  o->dev, o->addr, id, EM7180_PRODUCT_ID);
+	}
+	ib = calloc(1, sizeof(*ib));
+	if (!ib) {
+		close(fd);
+		return sw_err_set(e, SW_EXIT_IO, "out of memory");
+	}
+	ib->b.ops = &i2c_ops;
+	ib->b.kind = "i2c";
+	snprintf(ib->b.name, sizeof(ib->b.name), "%s@0x%02x", o->dev, o->addr);
+	/* The kernel's name for the client, as the driver backend's fallback. */
+	sw_sanitize_key(client, ib->b.key, sizeof(ib->b.key));
+	ib->fd = fd;
+	ib->addr = o->addr;
+	*out = &ib->b;
+	return SW_EXIT_OK;
+}

@@ -1,0 +1,480 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * sentral-warmstart: driver backend (the em7180 IIO driver's sysfs ABI).
+ *
+ * libiio finds the device; every attribute is then read and written with
+ * plain open/read/write on sysfs, because libiio 0.24's local backend
+ * overwrites the last byte of what it reads (it assumes a trailing
+ * newline), which would corrupt the 140-byte binary warmstart attribute.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <iio.h>
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "backend.h"
+
+#define IIO_SYSFS "/sys/bus/iio/devices"
+#define UDEV_DB "/run/udev/data"
+
+struct iio_be {
+	struct sw_backend b;
+	char dir[PATH_MAX];	/* /sys/bus/iio/devices/iio:deviceN */
+	char parent[64];	/* the I2C client, e.g. "0-0028" */
+};
+
+/* Copy with truncation; the callers' buffers are far larger than the data. */
+static void copy_str(char *dst, size_t len, const char *src)
+{
+	size_t n = strnlen(src, len - 1);
+
+	memcpy(dst, src, n);
+	dst[n] = '\0';
+}
+
+static struct iio_be *to_iio(struct sw_backend *b)
+{
+	return (struct iio_be *)b;
+}
+
+void sw_sanitize_key(const char *in, char *out, size_t len)
+{
+	size_t i;
+
+	for (i = 0; in[i] && i + 1 < len; i++) {
+		char c = in[i];
+		bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+			  (c >= '0' && c <= '9') || c == '.' || c == '_' ||
+			  c == '-';
+
+		out[i] = ok ? c : '_';
+	}
+	out[i] = '\0';
+	/* Never an empty name, never a hidden file or "." / "..". */
+	if (!out[0] || out[0] == '.') {
+		if (len > 1 && out[0] == '.')
+			out[0] = '_';
+		else
+			snprintf(out, len, "unknown");
+	}
+}
+
+static int read_text(const char *path, char *buf, size_t len)
+{
+	ssize_t n;
+	int fd;
+
+	fd = open(path, O_RDONLY | O_CLOEXEC);
+	if (fd < 0)
+		return -1;
+	n = read(fd, buf, len - 1);
+	close(fd);
+	if (n < 0)
+		return -1;
+	buf[n] = '\0';
+	while (n > 0 && (buf[n - 1] == '\n' || buf[n - 1] == ' '))
+		buf[--n] = '\0';
+	return 0;
+}
+
+static int attr_read(struct iio_be *ib, const char *attr, char *buf,
+		     size_t len, struct sw_err *e)
+{
+	char path[PATH_MAX + 64];
+
+	snprintf(path, sizeof(path), "%s/%s", ib->dir, attr);
+	if (read_text(path, buf, len) < 0)
+		return sw_err_set(e, SW_EXIT_IO, "%s: cannot read %s: %s",
+				  ib->b.name, attr, strerror(errno));
+	return SW_EXIT_OK;
+}
+
+static int attr_read_int(struct iio_be *ib, const char *attr, int *val,
+			 struct sw_err *e)
+{
+	char buf[64], *end;
+	long v;
+	int ret;
+
+	ret = attr_read(ib, attr, buf, sizeof(buf), e);
+	if (ret)
+		return ret;
+	errno = 0;
+	v = strtol(buf, &end, 10);
+	if (errno || end == buf || *end || v < INT_MIN || v > INT_MAX)
+		return sw_err_set(e, SW_EXIT_IO, "%s: %s: unexpected value \"%s\"",
+				  ib->b.name, attr, buf);
+	*val = (int)v;
+	return SW_EXIT_OK;
+}
+
+static int attr_write_int(struct iio_be *ib, const char *attr, int val,
+			  struct sw_err *e)
+{
+	char path[PATH_MAX + 64], buf[32];
+	ssize_t n;
+	int fd, len;
+
+	snprintf(path, sizeof(path), "%s/%s", ib->dir, attr);
+	len = snprintf(buf, sizeof(buf), "%d\n", val);
+	fd = open(path, O_WRONLY | O_CLOEXEC);
+	if (fd < 0)
+		return sw_err_set(e, SW_EXIT_IO, "%s: cannot open %s: %s",
+				  ib->b.name, attr, strerror(errno));
+	n = write(fd, buf, (size_t)len);
+	if (n != len) {
+		int err = n < 0 ? errno : EIO;
+
+		close(fd);
+		return sw_err_set(e, SW_EXIT_IO, "%s: writing %d to %s: %s",
+				  ib->b.name, val, attr, strerror(err));
+	}
+	close(fd);
+	return SW_EXIT_OK;
+}
+
+/*
+ * The driver's ABI has no identity attributes, so ProductID, RevisionID
+ * and the ROM/RAM versions are read from the chip over i2c-dev. The
+ * reads are single combined transfers of read-only registers: atomic on
+ * the bus and harmless to the bound driver.
+ */
+static int iio_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
+			 struct sw_err *e)
+{
+	struct iio_be *ib = to_iio(b);
+	unsigned int bus, addr;
+	char dev[32];
+	int fd, err;
+
+	if (sscanf(ib->parent, "%u-%x", &bus, &addr) != 2)
+		return sw_err_set(e, SW_EXIT_DEVICE,
+				  "%s: parent %s is not an I2C client; cannot read the chip's identity",
+				  b->name, ib->parent);
+	snprintf(dev, sizeof(dev), "/dev/i2c-%u", bus);
+	fd = open(dev, O_RDWR | O_CLOEXEC);
+	if (fd < 0)
+		return sw_err_set(e, SW_EXIT_IO,
+				  "%s: cannot read ProductID/ROM/RAM versions: %s: %s (load the i2c-dev module)",
+				  b->name, dev, strerror(errno));
+	if (sw_i2c_read_chip_info(fd, addr, ci) < 0) {
+		err = errno;
+		close(fd);
+		return sw_err_set(e, SW_EXIT_IO,
+				  "%s: reading chip identity at 0x%02x on %s: %s",
+				  b->name, addr, dev, strerror(err));
+	}
+	close(fd);
+	return SW_EXIT_OK;
+}
+
+static int iio_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
+			 struct sw_err *e)
+{
+	struct iio_be *ib = to_iio(b);
+	char buf[64], *end;
+	double pct;
+	int ret;
+
+	ret = attr_read_int(ib, "calibration_status", &cs->status, e);
+	ret = ret ? ret : attr_read_int(ib, "mag_transient",
+					&cs->mag_transient, e);
+	ret = ret ? ret : attr_read_int(ib, "gyro_bias_update",
+					&cs->gyro_bias_update, e);
+	ret = ret ? ret : attr_read_int(ib, "mag_calibration_update",
+					&cs->mag_cal_update, e);
+	ret = ret ? ret : attr_read(ib, "calibration_score", buf,
+				    sizeof(buf), e);
+	if (ret)
+		return ret;
+	pct = strtod(buf, &end);
+	if (end == buf || *end)
+		return sw_err_set(e, SW_EXIT_IO,
+				  "%s: calibration_score: unexpected value \"%s\"",
+				  b->name, buf);
+	/* 3 decimals resolve the 100/32768 % steps: the raw value is exact. */
+	cs->score_raw = sw_score_raw(pct);
+	return SW_EXIT_OK;
+}
+
+static int blob_err(struct iio_be *ib, const char *op, int err,
+		    struct sw_err *e)
+{
+	const char *hint = "";
+
+	if (err == EBUSY)
+		hint = " (buffered capture is running; stop it first)";
+	else if (err == ETIMEDOUT)
+		hint = " (the chip did not acknowledge a parameter)";
+	else if (err == EINVAL)
+		hint = " (the driver refused the blob)";
+	return sw_err_set(e, SW_EXIT_IO, "%s: %s warmstart: %s%s", ib->b.name,
+			  op, strerror(err), hint);
+}
+
+static int iio_read_blob(struct sw_backend *b, uint8_t *blob,
+			 struct sw_err *e)
+{
+	struct iio_be *ib = to_iio(b);
+	char path[PATH_MAX + 16];
+	ssize_t n;
+	int fd, err;
+
+	snprintf(path, sizeof(path), "%s/warmstart", ib->dir);
+	fd = open(path, O_RDONLY | O_CLOEXEC);
+	if (fd < 0)
+		return blob_err(ib, "opening", errno, e);
+	/* Whole blob in one read at offset 0, as the ABI requires. */
+	n = read(fd, blob, SW_BLOB_SIZE);
+	err = n < 0 ? errno : EIO;
+	close(fd);
+	if (n != SW_BLOB_SIZE)
+		return blob_err(ib, "reading", err, e);
+	return SW_EXIT_OK;
+}
+
+static int iio_write_blob(struct sw_backend *b, const uint8_t *blob,
+			  struct sw_err *e)
+{
+	struct iio_be *ib = to_iio(b);
+	char path[PATH_MAX + 16];
+	ssize_t n;
+	int fd, err;
+
+	snprintf(path, sizeof(path), "%s/warmstart", ib->dir);
+	fd = open(path, O_WRONLY | O_CLOEXEC);
+	if (fd < 0)
+		return blob_err(ib, "opening", errno, e);
+	n = write(fd, blob, SW_BLOB_SIZE);
+	err = n < 0 ? errno : EIO;
+	if (close(fd) < 0 && n == SW_BLOB_SIZE) {
+		n = -1;
+		err = errno;
+	}
+	if (n != SW_BLOB_SIZE)
+		return blob_err(ib, "writing", err, e);
+	return SW_EXIT_OK;
+}
+
+static const char *const axes[3] = { "x", "y", "z" };
+
+static int iio_accel_raw(struct sw_backend *b, int xyz[3], struct sw_err *e)
+{
+	char attr[32];
+	int i, ret;
+
+	for (i = 0; i < 3; i++) {
+		snprintf(attr, sizeof(attr), "in_accel_%s_raw", axes[i]);
+		ret = attr_read_int(to_iio(b), attr, &xyz[i], e);
+		if (ret)
+			return ret;
+	}
+	return SW_EXIT_OK;
+}
+
+static int iio_accel_offset_get(struct sw_backend *b, int lsb[3],
+				struct sw_err *e)
+{
+	char attr[32];
+	int i, ret;
+
+	for (i = 0; i < 3; i++) {
+		snprintf(attr, sizeof(attr), "in_accel_%s_calibbias", axes[i]);
+		ret = attr_read_int(to_iio(b), attr, &lsb[i], e);
+		if (ret)
+			return ret;
+	}
+	return SW_EXIT_OK;
+}
+
+static int iio_accel_offset_set(struct sw_backend *b, const int lsb[3],
+				struct sw_err *e)
+{
+	char attr[32];
+	int i, ret;
+
+	for (i = 0; i < 3; i++) {
+		snprintf(attr, sizeof(attr), "in_accel_%s_calibbias", axes[i]);
+		ret = attr_write_int(to_iio(b), attr, lsb[i], e);
+		if (ret)
+			return ret;
+	}
+	return SW_EXIT_OK;
+}
+
+static void iio_close(struct sw_backend *b)
+{
+	free(to_iio(b));
+}
+
+static const struct sw_backend_ops iio_ops = {
+	.chip_info = iio_chip_info,
+	.cal_state = iio_cal_state,
+	.read_blob = iio_read_blob,
+	.write_blob = iio_write_blob,
+	.accel_raw = iio_accel_raw,
+	.accel_offset_get = iio_accel_offset_get,
+	.accel_offset_set = iio_accel_offset_set,
+	.close = iio_close,
+};
+
+/* ID_PATH from the udev database entry of the device's character node. */
+static bool udev_id_path(const char *dir, char *out, size_t len)
+{
+	char path[PATH_MAX + 8], devno[32], line[512];
+	bool found = false;
+	FILE *f;
+
+	snprintf(path, sizeof(path), "%s/dev", dir);
+	if (read_text(path, devno, sizeof(devno)) < 0)
+		return false;
+	snprintf(path, sizeof(path), UDEV_DB "/c%s", devno);
+	f = fopen(path, "re");
+	if (!f)
+		return false;
+	while (!found && fgets(line, sizeof(line), f)) {
+		if (strncmp(line, "E:ID_PATH=", 10))
+			continue;
+		line[strcspn(line, "\n")] = '\0';
+		if (line[10]) {
+			copy_str(out, len, line + 10);
+			found = true;
+		}
+	}
+	fclose(f);
+	return found;
+}
+
+/*
+ * The key names the saved file. udev's ID_PATH is stable across
+ * iio:deviceN renumbering and boots: take it from the environment when
+ * udev runs us for this very device, else from udev's database; without
+ * udev fall back to the I2C client's name ("0-0028").
+ */
+static void device_key(const char *id, const char *dir, const char *parent,
+		       char *key, size_t len)
+{
+	const char *env_path = getenv("ID_PATH");
+	const char *devpath = getenv("DEVPATH");
+	char idpath[256];
+	size_t dl, il = strlen(id);
+
+	if (env_path && *env_path && devpath &&
+	    (dl = strlen(devpath)) > il && devpath[dl - il - 1] == '/' &&
+	    !strcmp(devpath + dl - il, id)) {
+		sw_sanitize_key(env_path, key, len);
+		return;
+	}
+	if (udev_id_path(dir, idpath, sizeof(idpath))) {
+		sw_sanitize_key(idpath, key, len);
+		return;
+	}
+	sw_sanitize_key(parent, key, len);
+}
+
+static void parent_name(const char *dir, char *out, size_t len)
+{
+	char link[PATH_MAX], *p;
+	ssize_t n;
+
+	out[0] = '\0';
+	n = readlink(dir, link, sizeof(link) - 1);
+	if (n <= 0)
+		return;
+	link[n] = '\0';
+	/* .../i2c-0/0-0028/iio:device0 -> 0-0028 */
+	p = strrchr(link, '/');
+	if (!p)
+		return;
+	*p = '\0';
+	p = strrchr(link, '/');
+	copy_str(out, len, p ? p + 1 : link);
+}
+
+static bool device_matches(const char *want, const struct iio_device *dev,
+			   const struct iio_be *cand)
+{
+	const char *label = iio_device_get_label(dev);
+	char sane[128];
+
+	if (!want)
+		return true;
+	sw_sanitize_key(want, sane, sizeof(sane));
+	return !strcmp(want, iio_device_get_id(dev)) ||
+	       !strcmp(want, "em7180") ||
+	       (label && !strcmp(want, label)) ||
+	       !strcmp(want, cand->parent) || !strcmp(want, cand->b.key) ||
+	       !strcmp(sane, cand->b.key);
+}
+
+int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
+		struct sw_err *e)
+{
+	struct iio_be *found = NULL;
+	struct iio_context *ctx;
+	char list[512] = "";
+	unsigned int i, n, matches = 0;
+
+	ctx = iio_create_local_context();
+	if (!ctx && errno == ENOENT)
+		return sw_err_set(e, SW_EXIT_DEVICE,
+				  "no IIO devices at all (" IIO_SYSFS " is missing): is the em7180_i2c driver loaded? without a driver use --i2c");
+	if (!ctx)
+		return sw_err_set(e, SW_EXIT_DEVICE,
+				  "cannot scan IIO devices: %s", strerror(errno));
+	n = iio_context_get_devices_count(ctx);
+	for (i = 0; i < n; i++) {
+		const struct iio_device *dev = iio_context_get_device(ctx, i);
+		const char *name = iio_device_get_name(dev);
+		const char *id = iio_device_get_id(dev);
+		struct iio_be *cand;
+
+		if (!name || strcmp(name, "em7180"))
+			continue;
+		cand = calloc(1, sizeof(*cand));
+		if (!cand) {
+			iio_context_destroy(ctx);
+			free(found);
+			return sw_err_set(e, SW_EXIT_IO, "out of memory");
+		}
+		cand->b.ops = &iio_ops;
+		cand->b.kind = "driver";
+		snprintf(cand->b.name, sizeof(cand->b.name), "%s", id);
+		snprintf(cand->dir, sizeof(cand->dir), IIO_SYSFS "/%s", id);
+		parent_name(cand->dir, cand->parent, sizeof(cand->parent));
+		device_key(id, cand->dir, cand->parent, cand->b.key,
+			   sizeof(cand->b.key));
+		if (!device_matches(o->device, dev, cand)) {
+			free(cand);
+			continue;
+		}
+		matches++;
+		snprintf(list + strlen(list), sizeof(list) - strlen(list),
+			 "%s%s (%s, key %s)", matches > 1 ? ", " : "", id,
+			 cand->parent, cand->b.key);
+		if (found)
+			free(cand);
+		else
+			found = cand;
+	}
+	iio_context_destroy(ctx);
+	if (!matches) {
+		if (o->device)
+			return sw_err_set(e, SW_EXIT_DEVICE,
+					  "no em7180 IIO device matches '%s'",
+					  o->device);
+		return sw_err_set(e, SW_EXIT_DEVICE,
+				  "no em7180 IIO device found (is the em7180_i2c driver loaded and bound? without a driver use --i2c)");
+	}
+	if (matches > 1) {
+		free(found);
+		return sw_err_set(e, SW_EXIT_DEVICE,
+				  "%u em7180 devices found: %s; choose one with --device",
+				  matches, list);
+	}
+	*out = &found->b;
+	return SW_EXIT_OK;
+}

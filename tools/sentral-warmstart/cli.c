@@ -1,0 +1,304 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * sentral-warmstart: option parsing and --help.
+ */
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "policy.h"
+
+enum {
+	OPT_DEVICE = 'd',
+	OPT_FILE = 'f',
+	OPT_HELP = 'h',
+	OPT_VERSION = 'V',
+	OPT_I2C = 256,
+	OPT_ADDRESS,
+	OPT_STATE_DIR,
+	OPT_FORCE,
+	OPT_IF_PRESENT,
+	OPT_JSON,
+	OPT_MAX_SCORE,
+	OPT_TARGET_SCORE,
+	OPT_TIMEOUT,
+	OPT_SAMPLES,
+};
+
+static const struct option long_opts[] = {
+	{ "device", required_argument, NULL, OPT_DEVICE },
+	{ "i2c", required_argument, NULL, OPT_I2C },
+	{ "address", required_argument, NULL, OPT_ADDRESS },
+	{ "state-dir", required_argument, NULL, OPT_STATE_DIR },
+	{ "file", required_argument, NULL, OPT_FILE },
+	{ "force", no_argument, NULL, OPT_FORCE },
+	{ "if-present", no_argument, NULL, OPT_IF_PRESENT },
+	{ "json", no_argument, NULL, OPT_JSON },
+	{ "max-score", required_argument, NULL, OPT_MAX_SCORE },
+	{ "target-score", required_argument, NULL, OPT_TARGET_SCORE },
+	{ "timeout", required_argument, NULL, OPT_TIMEOUT },
+	{ "samples", required_argument, NULL, OPT_SAMPLES },
+	{ "help", no_argument, NULL, OPT_HELP },
+	{ "version", no_argument, NULL, OPT_VERSION },
+	{ NULL, 0, NULL, 0 },
+};
+
+static const struct {
+	const char *name;
+	enum sw_command cmd;
+} commands[] = {
+	{ "status", SW_CMD_STATUS },
+	{ "save", SW_CMD_SAVE },
+	{ "restore", SW_CMD_RESTORE },
+	{ "calibrate", SW_CMD_CALIBRATE },
+	{ "accel-cal", SW_CMD_ACCEL_CAL },
+	{ "show", SW_CMD_SHOW },
+};
+
+void sw_usage(FILE *f)
+{
+	fputs("Usage: sentral-warmstart [--device NAME | --i2c /dev/i2c-N [--address 0x28]]\n"
+	      "                         [--state-dir DIR] COMMAND [OPTIONS]\n"
+	      "\n"
+	      "Save and restore the warm-start calibration of a PNI SENtral / EM7180.\n"
+	      "\n"
+	      "Commands:\n"
+	      "  status [--json]                 calibration state of the chip and its saved file\n"
+	      "  save [--file F] [--force] [--max-score S]\n"
+	      "                                  save the calibration if the save policy allows\n"
+	      "  restore [--file F] [--if-present] [--force]\n"
+	      "                                  write the saved calibration back to the chip\n"
+	      "  calibrate [--timeout SEC] [--target-score S] [--max-score S] [--file F]\n"
+	      "                                  guided figure-8 magnetic calibration, then save\n"
+	      "  accel-cal [--samples N]         one-point accelerometer calibration (Z down)\n"
+	      "  show FILE                       decode and check a saved file\n"
+	      "\n"
+	      "Options:\n"
+	      "  -d, --device NAME     em7180 IIO device: iio:deviceN, label, I2C client name\n"
+	      "                        (0-0028) or key (default: the only one present)\n"
+	      "      --i2c DEV         talk to the chip over i2c-dev (no driver bound)\n"
+	      "      --address ADDR    7-bit I2C address with --i2c (default 0x28)\n"
+	      "      --state-dir DIR   saved files (default " SW_STATE_DIR ")\n"
+	      "  -f, --file F          saved file (default DIR/KEY.ws)\n"
+	      "      --force           save a worse calibration, restore a file made for\n"
+	      "                        another chip version, use --i2c with a driver bound\n"
+	      "      --if-present      restore: a missing file is not an error\n"
+	      "      --json            status: machine-readable output\n"
+	      "      --max-score S     acceptable score in percent (default 5.0)\n"
+	      "      --target-score S  calibrate: stop at this score (default 3.0)\n"
+	      "      --timeout SEC     calibrate: give up after SEC seconds (default 120)\n"
+	      "      --samples N       accel-cal: samples to average (default 64)\n"
+	      "  -h, --help            this help\n"
+	      "  -V, --version         print the version\n"
+	      "\n"
+	      "Exit status:\n"
+	      "  0 success   1 usage error   2 no, several or unusable device\n"
+	      "  3 saved file missing or refused   4 save refused by the policy\n"
+	      "  5 I/O or bus error   6 calibration incomplete, timed out or unverified\n"
+	      "\n"
+	      "See sentral-warmstart(8).\n", f);
+}
+
+static int parse_double(const char *opt, const char *s, double lo, double hi,
+			double *out, struct sw_err *e)
+{
+	char *end;
+	double v;
+
+	errno = 0;
+	v = strtod(s, &end);
+	if (errno || end == s || *end || !isfinite(v) || v < lo || v > hi)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "%s: '%s' is not a number between %g and %g",
+				  opt, s, lo, hi);
+	*out = v;
+	return SW_EXIT_OK;
+}
+
+static int parse_uint(const char *opt, const char *s, unsigned long lo,
+		      unsigned long hi, unsigned int *out, struct sw_err *e)
+{
+	unsigned long v;
+	char *end;
+
+	errno = 0;
+	v = strtoul(s, &end, 0);
+	if (errno || end == s || *end || *s == '-' || v < lo || v > hi)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "%s: '%s' is not a number between %lu and %lu",
+				  opt, s, lo, hi);
+	*out = (unsigned int)v;
+	return SW_EXIT_OK;
+}
+
+/* Which command accepts which command-specific option. */
+static int check_option_use(const struct sw_opts *o, const bool *seen,
+			    struct sw_err *e)
+{
+	static const struct {
+		int opt;
+		const char *name;
+		unsigned int cmds;	/* bit per enum sw_command */
+	} rules[] = {
+		{ OPT_JSON, "--json", 1u << SW_CMD_STATUS },
+		{ OPT_IF_PRESENT, "--if-present", 1u << SW_CMD_RESTORE },
+		{ OPT_FILE, "--file", 1u << SW_CMD_SAVE | 1u << SW_CMD_RESTORE |
+					1u << SW_CMD_CALIBRATE |
+					1u << SW_CMD_STATUS },
+		{ OPT_MAX_SCORE, "--max-score", 1u << SW_CMD_SAVE |
+						  1u << SW_CMD_CALIBRATE },
+		{ OPT_TARGET_SCORE, "--target-score", 1u << SW_CMD_CALIBRATE },
+		{ OPT_TIMEOUT, "--timeout", 1u << SW_CMD_CALIBRATE },
+		{ OPT_SAMPLES, "--samples", 1u << SW_CMD_ACCEL_CAL },
+	};
+	size_t i;
+
+	for (i = 0; i < sizeof(rules) / sizeof(rules[0]); i++) {
+		if (seen[rules[i].opt] &&
+		    !(rules[i].cmds & 1u << o->cmd))
+			return sw_err_set(e, SW_EXIT_USAGE,
+					  "%s is not an option of this command",
+					  rules[i].name);
+	}
+	if (o->force && !o->i2c_dev && o->cmd != SW_CMD_SAVE &&
+	    o->cmd != SW_CMD_RESTORE && o->cmd != SW_CMD_CALIBRATE)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "--force is not an option of this command");
+	if (o->cmd == SW_CMD_SHOW && (o->device || o->i2c_dev))
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "show reads a file only; --device, --i2c and --address do not apply");
+	return SW_EXIT_OK;
+}
+
+int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
+{
+	bool seen[OPT_SAMPLES + 1] = { false };
+	const char *show_file = NULL;
+	int c, i, ret;
+
+	memset(o, 0, sizeof(*o));
+	o->address = 0x28;
+	o->state_dir = SW_STATE_DIR;
+	o->max_score = SW_DEFAULT_MAX_SCORE;
+	o->target_score = SW_DEFAULT_TARGET_SCORE;
+	o->timeout_s = 120;
+	o->samples = 64;
+
+	/* Re-initialise getopt: the parser may run more than once (tests). */
+	optind = 0;
+	opterr = 0;
+	while ((c = getopt_long(argc, argv, "+:d:f:hV", long_opts, NULL)) != -1 ||
+	       optind < argc) {
+		if (c == -1) {
+			/* A non-option: the command or show's FILE. */
+			const char *arg = argv[optind++];
+
+			if (o->cmd == SW_CMD_NONE) {
+				for (i = 0; i < (int)(sizeof(commands) /
+						       sizeof(commands[0])); i++)
+					if (!strcmp(arg, commands[i].name))
+						o->cmd = commands[i].cmd;
+				if (o->cmd == SW_CMD_NONE)
+					return sw_err_set(e, SW_EXIT_USAGE,
+							  "unknown command '%s'",
+							  arg);
+			} else if (o->cmd == SW_CMD_SHOW && !show_file) {
+				show_file = arg;
+			} else {
+				return sw_err_set(e, SW_EXIT_USAGE,
+						  "unexpected argument '%s'", arg);
+			}
+			continue;
+		}
+		if (c > 0 && c <= OPT_SAMPLES)
+			seen[c] = true;
+		ret = SW_EXIT_OK;
+		switch (c) {
+		case OPT_DEVICE:
+			o->device = optarg;
+			break;
+		case OPT_I2C:
+			o->i2c_dev = optarg;
+			break;
+		case OPT_ADDRESS:
+			ret = parse_uint("--address", optarg, 0x03, 0x77,
+					 &o->address, e);
+			break;
+		case OPT_STATE_DIR:
+			o->state_dir = optarg;
+			break;
+		case OPT_FILE:
+			o->file = optarg;
+			break;
+		case OPT_FORCE:
+			o->force = true;
+			break;
+		case OPT_IF_PRESENT:
+			o->if_present = true;
+			break;
+		case OPT_JSON:
+			o->json = true;
+			break;
+		case OPT_MAX_SCORE:
+			ret = parse_double("--max-score", optarg, 0, 100,
+					   &o->max_score, e);
+			break;
+		case OPT_TARGET_SCORE:
+			ret = parse_double("--target-score", optarg, 0, 100,
+					   &o->target_score, e);
+			break;
+		case OPT_TIMEOUT:
+			ret = parse_uint("--timeout", optarg, 1, 86400,
+					 &o->timeout_s, e);
+			break;
+		case OPT_SAMPLES:
+			ret = parse_uint("--samples", optarg, 1, 10000,
+					 &o->samples, e);
+			break;
+		case OPT_HELP:
+			o->help = true;
+			break;
+		case OPT_VERSION:
+			o->version = true;
+			break;
+		case ':':
+			return sw_err_set(e, SW_EXIT_USAGE,
+					  "option '%s' needs an argument",
+					  argv[optind - 1]);
+		default:
+			return sw_err_set(e, SW_EXIT_USAGE,
+					  "unknown option '%s'",
+					  argv[optind - 1]);
+		}
+		if (ret)
+			return ret;
+	}
+
+	if (o->help || o->version)
+		return SW_EXIT_OK;
+	if (o->cmd == SW_CMD_NONE)
+		return sw_err_set(e, SW_EXIT_USAGE, "no command given");
+	if (o->device && o->i2c_dev)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "--device and --i2c exclude each other");
+	if (seen[OPT_ADDRESS] && !o->i2c_dev)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "--address is only meaningful with --i2c");
+	ret = check_option_use(o, seen, e);
+	if (ret)
+		return ret;
+	if (o->cmd == SW_CMD_SHOW) {
+		if (!show_file)
+			return sw_err_set(e, SW_EXIT_USAGE,
+					  "show needs a FILE");
+		o->file = show_file;
+	}
+	if (!*o->state_dir)
+		return sw_err_set(e, SW_EXIT_USAGE, "--state-dir is empty");
+	if (o->file && !*o->file)
+		return sw_err_set(e, SW_EXIT_USAGE, "--file is empty");
+	return SW_EXIT_OK;
+}

@@ -1,0 +1,46 @@
+/* SPDX-License-Identifier: GPL-2.0-only */
+/*
+ * sentral-warmstart: command line.
+ */
+#ifndef SW_CLI_H
+#define SW_CLI_H
+
+#include "sw.h"
+
+enum sw_command {
+	SW_CMD_NONE,
+	SW_CMD_STATUS,
+	SW_CMD_SAVE,
+	SW_CMD_RESTORE,
+	SW_CMD_CALIBRATE,
+	SW_CMD_ACCEL_CAL,
+	SW_CMD_SHOW,
+};
+
+struct sw_opts {
+	enum sw_command cmd;
+	const char *device;	/* --device */
+	const char *i2c_dev;	/* --i2c */
+	unsigned int address;	/* --address, default 0x28 */
+	const char *state_dir;	/* --state-dir */
+	const char *file;	/* --file, or show's FILE */
+	bool force;
+	bool if_present;
+	bool json;
+	double max_score;	/* --max-score, percent */
+	double target_score;	/* --target-score, percent */
+	unsigned int timeout_s;	/* --timeout */
+	unsigned int samples;	/* --samples */
+	bool help;
+	bool version;
+};
+
+/*
+ * Parse argv into o. Returns SW_EXIT_OK, or SW_EXIT_USAGE with e->msg
+ * saying what is wrong. Options may come before or after the command.
+ */
+int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e);
+
+void sw_usage(FILE *f);
+
+#endif

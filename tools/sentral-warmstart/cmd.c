@@ -1,0 +1,427 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * sentral-warmstart: status, save, restore and show.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdarg.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cmd.h"
+#include "policy.h"
+#include "wsfile.h"
+
+/* How long restore waits for calibration_status to become 3. */
+#define RESTORE_SETTLE_MS 2000
+#define RESTORE_POLL_MS 20
+
+static uint64_t real_now_ms(void *clk)
+{
+	struct timespec ts;
+
+	(void)clk;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (uint64_t)ts.tv_sec * 1000u + (uint64_t)ts.tv_nsec / 1000000u;
+}
+
+static void real_sleep_ms(void *clk, unsigned int ms)
+{
+	struct timespec ts = { ms / 1000, (long)(ms % 1000) * 1000000L };
+
+	(void)clk;
+	while (nanosleep(&ts, &ts) < 0 && errno == EINTR)
+		;
+}
+
+static uint64_t real_wall_s(void *clk)
+{
+	(void)clk;
+	return (uint64_t)time(NULL);
+}
+
+void sw_env_init(struct sw_env *env, FILE *out, FILE *err)
+{
+	memset(env, 0, sizeof(*env));
+	env->out = out;
+	env->err = err;
+	env->now_ms = real_now_ms;
+	env->sleep_ms = real_sleep_ms;
+	env->wall_s = real_wall_s;
+}
+
+/*
+ * udev logs a RUN program's output only at debug level: put what matters
+ * into the kernel log, where a boot's story is read.
+ */
+static void to_kmsg(int level, const char *msg)
+{
+	char line[700];
+	int fd, n;
+
+	fd = open("/dev/kmsg", O_WRONLY | O_CLOEXEC | O_NOCTTY);
+	if (fd < 0)
+		return;
+	n = snprintf(line, sizeof(line), "<%d>sentral-warmstart[%d]: %s\n",
+		     level, (int)getpid(), msg);
+	if (n > 0 && write(fd, line, (size_t)n) < 0)
+		n = 0;	/* the log is best effort */
+	close(fd);
+}
+
+void sw_note(struct sw_env *env, const char *fmt, ...)
+{
+	char msg[600];
+	va_list ap;
+
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof(msg), fmt, ap);
+	va_end(ap);
+	fprintf(env->out, "%s\n", msg);
+	fflush(env->out);
+	if (env->kmsg)
+		to_kmsg(5, msg);
+}
+
+void sw_report(struct sw_env *env, const struct sw_err *e)
+{
+	fprintf(env->err, "sentral-warmstart: error: %s\n", e->msg);
+	fflush(env->err);
+	if (env->kmsg) {
+		char msg[560];
+
+		snprintf(msg, sizeof(msg), "error: %s", e->msg);
+		to_kmsg(3, msg);
+	}
+}
+
+void sw_file_path(const struct sw_opts *o, const struct sw_backend *b,
+		  char *out, size_t len)
+{
+	if (o->file)
+		snprintf(out, len, "%s", o->file);
+	else
+		snprintf(out, len, "%s/%s.ws", o->state_dir, b->key);
+}
+
+static void fmt_time(uint64_t t, char *buf, size_t len)
+{
+	time_t tt = (time_t)t;
+	struct tm tm;
+
+	if (!gmtime_r(&tt, &tm) ||
+	    !strftime(buf, len, "%Y-%m-%dT%H:%M:%SZ", &tm))
+		snprintf(buf, len, "?");
+}
+
+/*
+ * Load the existing file at path, if any. Returns SW_EXIT_OK with
+ * *have = true and *f filled when it is valid and made for this chip;
+ * SW_EXIT_OK with *have = false when it is missing or not usable (why
+ * says which); an error only when it must not be touched at all.
+ */
+static int load_existing(const char *path, const struct sw_chip_info *chip,
+			 struct sw_file *f, bool *have, char *why,
+			 size_t why_len, struct sw_err *e)
+{
+	uint8_t buf[SW_FILE_MAX_READ + 1];
+	enum sw_file_check c;
+	struct sw_err rerr;
+	char detail[160];
+	size_t len;
+	int err;
+
+	*have = false;
+	why[0] = '\0';
+	sw_err_clear(&rerr);
+	if (sw_file_read(path, true, buf, &len, &err, &rerr)) {
+		if (err == ENOENT)
+			return SW_EXIT_OK;
+		return sw_err_set(e, rerr.code, "%s", rerr.msg);
+	}
+	c = sw_file_decode(buf, len, f, detail, sizeof(detail));
+	if (c == SW_CHECK_OK && chip)
+		c = sw_file_match_chip(f, chip, detail, sizeof(detail));
+	if (c != SW_CHECK_OK) {
+		snprintf(why, why_len, "%s (%s)", sw_check_name(c), detail);
+		return SW_EXIT_OK;
+	}
+	*have = true;
+	return SW_EXIT_OK;
+}
+
+int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
+		     struct sw_env *env, const struct sw_cal_state *cs,
+		     const uint8_t *blob, struct sw_err *e)
+{
+	struct sw_policy_in pin = { 0 };
+	uint8_t out[SW_FILE_SIZE];
+	char path[4096], why[256], oldwhy[256];
+	struct sw_file old, nf;
+	int bad, ret;
+
+	memset(&nf, 0, sizeof(nf));
+	ret = b->ops->chip_info(b, &nf.chip, e);
+	if (ret)
+		return ret;
+	bad = sw_blob_nonfinite(blob);
+	if (bad)
+		return sw_err_set(e, SW_EXIT_IO,
+				  "%s: parameter %d (%s) read from the chip is not a finite number; not saving",
+				  b->name, bad, sw_param_name(bad));
+	sw_file_path(o, b, path, sizeof(path));
+	ret = load_existing(path, &nf.chip, &old, &pin.have_old, oldwhy,
+			    sizeof(oldwhy), e);
+	if (ret)
+		return ret;
+
+	pin.status = cs->status;
+	pin.score_raw = cs->score_raw;
+	pin.max_score = o->max_score;
+	pin.old_status = old.cal_status;
+	pin.old_score_raw = old.score_raw;
+	pin.force = o->force;
+	if (!sw_policy_save(&pin, why, sizeof(why)))
+		return sw_err_set(e, SW_EXIT_POLICY, "not saving %s: %s",
+				  path, why);
+	if (oldwhy[0])
+		sw_note(env, "replacing unusable %s: %s", path, oldwhy);
+
+	nf.cal_status = cs->status;
+	nf.score_raw = cs->score_raw;
+	nf.saved_at = env->wall_s(env->clk);
+	memcpy(nf.payload, blob, SW_BLOB_SIZE);
+	sw_file_encode(&nf, out);
+	ret = sw_file_write_atomic(path, out, sizeof(out), e);
+	if (ret)
+		return ret;
+	sw_note(env, "saved %s calibration to %s: %s", b->name, path, why);
+	return SW_EXIT_OK;
+}
+
+int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
+		struct sw_env *env, struct sw_err *e)
+{
+	struct sw_cal_state before, after;
+	uint8_t blob[SW_BLOB_SIZE];
+	int ret;
+
+	ret = b->ops->cal_state(b, &before, e);
+	ret = ret ? ret : b->ops->read_blob(b, blob, e);
+	ret = ret ? ret : b->ops->cal_state(b, &after, e);
+	if (ret)
+		return ret;
+	/*
+	 * The blob must be judged by the state it was taken in: if the
+	 * calibration changed under the read, judge by the worse of the two.
+	 */
+	if (after.status < before.status ||
+	    (after.status == before.status &&
+	     after.score_raw > before.score_raw))
+		before = after;
+	return sw_save_snapshot(b, o, env, &before, blob, e);
+}
+
+int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
+		   struct sw_env *env, struct sw_err *e)
+{
+	uint8_t buf[SW_FILE_MAX_READ + 1];
+	struct sw_chip_info chip;
+	struct sw_cal_state cs;
+	enum sw_file_check c;
+	struct sw_err rerr;
+	char path[4096], detail[160];
+	struct sw_file f;
+	uint64_t start;
+	size_t len;
+	int err, ret;
+
+	sw_file_path(o, b, path, sizeof(path));
+	sw_err_clear(&rerr);
+	if (sw_file_read(path, true, buf, &len, &err, &rerr)) {
+		if (err == ENOENT && o->if_present) {
+			sw_note(env, "no saved calibration for %s (%s); nothing to restore",
+				b->name, path);
+			return SW_EXIT_OK;
+		}
+		return sw_err_set(e, rerr.code, "%s", rerr.msg);
+	}
+	c = sw_file_decode(buf, len, &f, detail, sizeof(detail));
+	if (c != SW_CHECK_OK)
+		return sw_err_set(e, SW_EXIT_FILE,
+				  "%s: refused: %s (%s); the chip was not touched",
+				  path, sw_check_name(c), detail);
+	ret = b->ops->chip_info(b, &chip, e);
+	if (ret)
+		return ret;
+	c = sw_file_match_chip(&f, &chip, detail, sizeof(detail));
+	if (c != SW_CHECK_OK) {
+		if (!o->force)
+			return sw_err_set(e, SW_EXIT_FILE,
+					  "%s: refused: %s (%s); the chip was not touched (--force restores anyway)",
+					  path, sw_check_name(c), detail);
+		sw_note(env, "warning: %s: %s (%s); restoring anyway (--force)",
+			path, sw_check_name(c), detail);
+	}
+	ret = b->ops->write_blob(b, f.payload, e);
+	if (ret)
+		return ret;
+
+	/* The chip needs a moment to take the coefficients in. */
+	start = env->now_ms(env->clk);
+	for (;;) {
+		ret = b->ops->cal_state(b, &cs, e);
+		if (ret)
+			return ret;
+		if (cs.status == 3)
+			break;
+		if (env->now_ms(env->clk) - start >= RESTORE_SETTLE_MS)
+			return sw_err_set(e, SW_EXIT_CAL,
+					  "%s: wrote %s but calibration_status is %d, not 3",
+					  b->name, path, cs.status);
+		env->sleep_ms(env->clk, RESTORE_POLL_MS);
+	}
+	sw_note(env, "restored %s calibration from %s: status 3, score %.3f%% (saved with %.3f%%)",
+		b->name, path, sw_score_pct(cs.score_raw),
+		sw_score_pct(f.score_raw));
+	return SW_EXIT_OK;
+}
+
+static void json_str(FILE *f, const char *s)
+{
+	fputc('"', f);
+	for (; *s; s++) {
+		unsigned char c = (unsigned char)*s;
+
+		if (c == '"' || c == '\\')
+			fprintf(f, "\\%c", c);
+		else if (c < 0x20)
+			fprintf(f, "\\u%04x", c);
+		else
+			fputc(c, f);
+	}
+	fputc('"', f);
+}
+
+int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
+		  struct sw_env *env, struct sw_err *e)
+{
+	struct sw_chip_info chip;
+	struct sw_cal_state cs;
+	struct sw_err cerr;
+	struct sw_file f;
+	char path[4096], why[256], when[40];
+	bool have_chip, have_file;
+	FILE *out = env->out;
+	int ret;
+
+	ret = b->ops->cal_state(b, &cs, e);
+	if (ret)
+		return ret;
+	sw_err_clear(&cerr);
+	have_chip = b->ops->chip_info(b, &chip, &cerr) == SW_EXIT_OK;
+	sw_file_path(o, b, path, sizeof(path));
+	ret = load_existing(path, have_chip ? &chip : NULL, &f, &have_file,
+			    why, sizeof(why), e);
+	if (ret)
+		return ret;
+	if (!have_file && !why[0])
+		snprintf(why, sizeof(why), "no saved calibration yet");
+	if (have_file)
+		fmt_time(f.saved_at, when, sizeof(when));
+
+	if (o->json) {
+		fprintf(out, "{\"device\":");
+		json_str(out, b->name);
+		fprintf(out, ",\"backend\":\"%s\",\"key\":", b->kind);
+		json_str(out, b->key);
+		if (have_chip)
+			fprintf(out, ",\"product_id\":%u,\"revision_id\":%u,\"rom_version\":%u,\"ram_version\":%u",
+				chip.product_id, chip.revision_id,
+				chip.rom_version, chip.ram_version);
+		fprintf(out, ",\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"mag_transient\":%d,\"gyro_bias_update\":%d,\"mag_calibration_update\":%d,\"file\":",
+			cs.status, sw_score_pct(cs.score_raw), cs.score_raw,
+			cs.mag_transient, cs.gyro_bias_update,
+			cs.mag_cal_update);
+		json_str(out, path);
+		if (have_file)
+			fprintf(out, ",\"saved\":{\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"saved_at\":%llu}}\n",
+				f.cal_status, sw_score_pct(f.score_raw),
+				f.score_raw, (unsigned long long)f.saved_at);
+		else {
+			fprintf(out, ",\"saved\":null,\"saved_problem\":");
+			json_str(out, why);
+			fprintf(out, "}\n");
+		}
+		return SW_EXIT_OK;
+	}
+
+	fprintf(out, "device:              %s (%s backend)\n", b->name, b->kind);
+	fprintf(out, "key:                 %s\n", b->key);
+	if (have_chip)
+		fprintf(out, "chip:                ProductID 0x%02x, RevisionID 0x%02x, ROM 0x%04x, RAM 0x%04x\n",
+			chip.product_id, chip.revision_id, chip.rom_version,
+			chip.ram_version);
+	else
+		fprintf(out, "chip:                unknown (%s)\n", cerr.msg);
+	fprintf(out, "calibration status:  %d%s\n", cs.status,
+		cs.status == 3 ? " (complete)" : "");
+	fprintf(out, "calibration score:   %.3f%%\n", sw_score_pct(cs.score_raw));
+	fprintf(out, "mag transient:       %d\n", cs.mag_transient);
+	fprintf(out, "gyro bias update:    %d\n", cs.gyro_bias_update);
+	fprintf(out, "mag cal update:      %d\n", cs.mag_cal_update);
+	if (have_file)
+		fprintf(out, "saved file:          %s (status %d, score %.3f%%, saved %s)\n",
+			path, f.cal_status, sw_score_pct(f.score_raw), when);
+	else
+		fprintf(out, "saved file:          %s: %s\n", path, why);
+	return SW_EXIT_OK;
+}
+
+int sw_cmd_show(const struct sw_opts *o, struct sw_env *env,
+		struct sw_err *e)
+{
+	uint8_t buf[SW_FILE_MAX_READ + 1];
+	enum sw_file_check c;
+	char detail[160], when[40];
+	struct sw_file f;
+	FILE *out = env->out;
+	size_t len;
+	int n;
+
+	/* Only reading: following a symlink the user named is harmless. */
+	if (sw_file_read(o->file, false, buf, &len, NULL, e))
+		return e->code;
+	c = sw_file_decode(buf, len, &f, detail, sizeof(detail));
+	if (c != SW_CHECK_OK)
+		return sw_err_set(e, SW_EXIT_FILE, "%s: refused: %s (%s)",
+				  o->file, sw_check_name(c), detail);
+	fmt_time(f.saved_at, when, sizeof(when));
+	fprintf(out, "file:                %s\n", o->file);
+	fprintf(out, "format:              %s version %d, %zu bytes, CRC-32 0x%08x ok\n",
+		SW_FILE_MAGIC, SW_FILE_VERSION, len,
+		sw_get_le32(buf + SW_FILE_SIZE - 4));
+	fprintf(out, "ProductID:           0x%02x\n", f.chip.product_id);
+	fprintf(out, "RevisionID:          0x%02x\n", f.chip.revision_id);
+	fprintf(out, "ROM version:         0x%04x\n", f.chip.rom_version);
+	fprintf(out, "RAM version:         0x%04x\n", f.chip.ram_version);
+	fprintf(out, "calibration status:  %d\n", f.cal_status);
+	fprintf(out, "calibration score:   %.3f%% (raw 0x%04x)\n",
+		sw_score_pct(f.score_raw), f.score_raw);
+	fprintf(out, "saved at:            %s (%llu)\n", when,
+		(unsigned long long)f.saved_at);
+	fprintf(out, "parameters:\n");
+	for (n = 1; n <= SW_NPARAMS; n++) {
+		uint32_t raw = sw_get_le32(f.payload + 4 * (n - 1));
+
+		fprintf(out, "  %2d  %-11s 0x%08x  %.7g", n, sw_param_name(n),
+			raw, (double)sw_blob_param(f.payload, n));
+		if (n >= SW_PARAM_ACCEL_X && n < SW_PARAM_ACCEL_X + 3)
+			fprintf(out, " g (accel %c offset, %d LSB)",
+				'X' + n - SW_PARAM_ACCEL_X,
+				sw_g_to_lsb(sw_blob_param(f.payload, n)));
+		fputc('\n', out);
+	}
+	return SW_EXIT_OK;
+}

@@ -1,0 +1,57 @@
+/* SPDX-License-Identifier: GPL-2.0-only */
+/*
+ * sentral-warmstart: the commands, written against the backend interface
+ * and an environment (output streams and clocks) so tests can fake both.
+ */
+#ifndef SW_CMD_H
+#define SW_CMD_H
+
+#include "backend.h"
+#include "cli.h"
+
+struct sw_env {
+	FILE *out;
+	FILE *err;
+	bool tty;		/* out is a terminal: draw a progress bar */
+	bool kmsg;		/* run by udev: copy messages to /dev/kmsg */
+	void *clk;
+	uint64_t (*now_ms)(void *clk);		/* monotonic */
+	void (*sleep_ms)(void *clk, unsigned int ms);
+	uint64_t (*wall_s)(void *clk);		/* seconds since the epoch */
+};
+
+/* Real clocks; out/err/tty/kmsg are the caller's. */
+void sw_env_init(struct sw_env *env, FILE *out, FILE *err);
+
+/* An informational line on out (and in the kernel log when run by udev). */
+void sw_note(struct sw_env *env, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+/* "sentral-warmstart: error: ..." on err (and in the kernel log). */
+void sw_report(struct sw_env *env, const struct sw_err *e);
+
+/* --file, or STATE_DIR/KEY.ws. */
+void sw_file_path(const struct sw_opts *o, const struct sw_backend *b,
+		  char *out, size_t len);
+
+int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
+		  struct sw_env *env, struct sw_err *e);
+int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
+		struct sw_env *env, struct sw_err *e);
+int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
+		   struct sw_env *env, struct sw_err *e);
+int sw_cmd_show(const struct sw_opts *o, struct sw_env *env,
+		struct sw_err *e);
+int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
+		     struct sw_env *env, struct sw_err *e);
+int sw_cmd_accel_cal(struct sw_backend *b, const struct sw_opts *o,
+		     struct sw_env *env, struct sw_err *e);
+
+/*
+ * Apply the save policy to a snapshot (calibration state + blob taken
+ * together) and write it. Shared by save and calibrate.
+ */
+int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
+		     struct sw_env *env, const struct sw_cal_state *cs,
+		     const uint8_t *blob, struct sw_err *e);
+
+#endif

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * sentral-warmstart: save and restore the warm-start calibration of a
+ * PNI SENtral / EM7180 sensor-fusion hub. See sentral-warmstart.8.
+ */
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "cmd.h"
+
+static int run(const struct sw_opts *o, struct sw_env *env, struct sw_err *e)
+{
+	struct sw_backend *b = NULL;
+	int ret;
+
+	if (o->cmd == SW_CMD_SHOW)
+		return sw_cmd_show(o, env, e);
+
+	if (o->i2c_dev) {
+		struct sw_i2c_opts io = {
+			.dev = o->i2c_dev, .addr = o->address, .force = o->force,
+		};
+
+		ret = sw_i2c_open(&io, &b, e);
+	} else {
+		struct sw_iio_opts io = { .device = o->device };
+
+		ret = sw_iio_open(&io, &b, e);
+	}
+	if (ret)
+		return ret;
+
+	switch (o->cmd) {
+	case SW_CMD_STATUS:
+		ret = sw_cmd_status(b, o, env, e);
+		break;
+	case SW_CMD_SAVE:
+		ret = sw_cmd_save(b, o, env, e);
+		break;
+	case SW_CMD_RESTORE:
+		ret = sw_cmd_restore(b, o, env, e);
+		break;
+	case SW_CMD_CALIBRATE:
+		ret = sw_cmd_calibrate(b, o, env, e);
+		break;
+	case SW_CMD_ACCEL_CAL:
+		ret = sw_cmd_accel_cal(b, o, env, e);
+		break;
+	default:
+		ret = sw_err_set(e, SW_EXIT_USAGE, "no command given");
+		break;
+	}
+	b->ops->close(b);
+	return ret;
+}
+
+int main(int argc, char **argv)
+{
+	struct sw_env env;
+	struct sw_opts o;
+	struct sw_err e;
+	int ret;
+
+	sw_err_clear(&e);
+	sw_env_init(&env, stdout, stderr);
+	env.tty = isatty(STDOUT_FILENO);
+	/* Started by udev (RUN+=): its log is the kernel's. */
+	env.kmsg = getenv("SEQNUM") && getenv("ACTION") && !env.tty;
+
+	ret = sw_parse_args(argc, argv, &o, &e);
+	if (ret) {
+		sw_report(&env, &e);
+		fprintf(stderr, "Try 'sentral-warmstart --help'.\n");
+		return ret;
+	}
+	if (o.help) {
+		sw_usage(stdout);
+		return SW_EXIT_OK;
+	}
+	if (o.version) {
+		printf("sentral-warmstart %s\n", SW_VERSION);
+		return SW_EXIT_OK;
+	}
+	ret = run(&o, &env, &e);
+	if (ret)
+		sw_report(&env, &e);
+	if (fflush(stdout) != 0 && !ret)
+		ret = SW_EXIT_IO;
+	return ret;
+}

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * sentral-warmstart: save policy.
+ */
+#include "policy.h"
+
+bool sw_policy_save(const struct sw_policy_in *in, char *why, size_t len)
+{
+	double pct = sw_score_pct(in->score_raw);
+	double old_pct = sw_score_pct(in->old_score_raw);
+	bool old_good = in->have_old && in->old_status == 3 &&
+			old_pct <= in->max_score;
+
+	if (in->force) {
+		snprintf(why, len, "forced (status %d, score %.3f%%)",
+			 in->status, pct);
+		return true;
+	}
+	if (in->status != 3) {
+		snprintf(why, len,
+			 "calibration incomplete (status %d, needs 3); move the device in a figure-8 first",
+			 in->status);
+		return false;
+	}
+	if (in->have_old && pct < old_pct) {
+		snprintf(why, len, "score %.3f%% is better than the saved %.3f%%",
+			 pct, old_pct);
+		return true;
+	}
+	if (in->have_old && pct > old_pct && old_good) {
+		snprintf(why, len,
+			 "score %.3f%% is worse than the saved file's %.3f%%; not replacing a good calibration (use --force)",
+			 pct, old_pct);
+		return false;
+	}
+	if (pct <= in->max_score) {
+		snprintf(why, len, "score %.3f%% is within the limit %.3f%%",
+			 pct, in->max_score);
+		return true;
+	}
+	if (in->have_old)
+		snprintf(why, len,
+			 "score %.3f%% is above the limit %.3f%% and not better than the saved %.3f%%",
+			 pct, in->max_score, old_pct);
+	else
+		snprintf(why, len, "score %.3f%% is above the limit %.3f%%",
+			 pct, in->max_score);
+	return false;
+}

@@ -1,0 +1,119 @@
+/* SPDX-License-Identifier: GPL-2.0-only */
+/*
+ * sentral-warmstart: shared definitions (exit codes, error reporting,
+ * chip facts used by every part of the tool).
+ */
+#ifndef SW_H
+#define SW_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#define SW_VERSION "1.0.0"
+
+/* Exit codes, documented in sentral-warmstart.8 and --help. */
+enum sw_exit {
+	SW_EXIT_OK = 0,
+	SW_EXIT_USAGE = 1,	/* bad command line */
+	SW_EXIT_DEVICE = 2,	/* no device, several, wrong chip, driver bound */
+	SW_EXIT_FILE = 3,	/* saved file missing or refused by a check */
+	SW_EXIT_POLICY = 4,	/* save refused by the save policy */
+	SW_EXIT_IO = 5,		/* sysfs, i2c bus or file system error */
+	SW_EXIT_CAL = 6,	/* calibration incomplete, timed out or unverified */
+};
+
+/* Warm-start parameters 1..35, one little-endian float32 each. */
+#define SW_NPARAMS 35
+#define SW_BLOB_SIZE (SW_NPARAMS * 4)
+
+/* Accelerometer offsets live in warm-start parameters 27..29. */
+#define SW_PARAM_ACCEL_X 27
+/* Seed app note: 1 LSB = 0.000488 g exactly (not 1/2048). */
+#define SW_G_PER_LSB 0.000488
+/* Scaled accel output expected with Z down (NED): 0, 0, +1 g. */
+#define SW_ACCEL_1G_LSB 2048
+
+/* Default location of saved files. */
+#define SW_STATE_DIR "/var/lib/sentral-warmstart"
+
+/* Percent score from the raw 16-bit register pair (seed register map). */
+static inline double sw_score_pct(uint16_t raw)
+{
+	return ((double)raw - 32768.0) / 32768.0 * 100.0;
+}
+
+/* Inverse of the above, rounding to the nearest raw value. */
+uint16_t sw_score_raw(double pct);
+
+struct sw_err {
+	int code;		/* enum sw_exit, SW_EXIT_OK when nothing failed */
+	char msg[512];
+};
+
+/* Record the first failure; later calls do not overwrite it. */
+int sw_err_set(struct sw_err *e, int code, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+void sw_err_clear(struct sw_err *e);
+
+/* Identity of the chip, compared against a saved file before a restore. */
+struct sw_chip_info {
+	uint8_t product_id;	/* reg 0x90 */
+	uint8_t revision_id;	/* reg 0x91 */
+	uint16_t rom_version;	/* regs 0x70-0x71 */
+	uint16_t ram_version;	/* regs 0x72-0x73 */
+};
+
+/* Calibration state as the seed app note defines it. */
+struct sw_cal_state {
+	int status;		/* reg 0x43 bits 1:0, 3 = complete */
+	uint16_t score_raw;	/* regs 0x4D | 0x4E << 8 */
+	int mag_transient;	/* reg 0x43 bits 3:2 */
+	int gyro_bias_update;	/* reg 0x44 bit 1 */
+	int mag_cal_update;	/* reg 0x44 bit 0 */
+};
+
+/* Little-endian helpers: the file format and the bus are both LE. */
+static inline void sw_put_le16(uint8_t *p, uint16_t v)
+{
+	p[0] = v & 0xff;
+	p[1] = v >> 8;
+}
+
+static inline void sw_put_le32(uint8_t *p, uint32_t v)
+{
+	sw_put_le16(p, v & 0xffff);
+	sw_put_le16(p + 2, v >> 16);
+}
+
+static inline void sw_put_le64(uint8_t *p, uint64_t v)
+{
+	sw_put_le32(p, v & 0xffffffffu);
+	sw_put_le32(p + 4, v >> 32);
+}
+
+static inline uint16_t sw_get_le16(const uint8_t *p)
+{
+	return (uint16_t)(p[0] | p[1] << 8);
+}
+
+static inline uint32_t sw_get_le32(const uint8_t *p)
+{
+	return sw_get_le16(p) | (uint32_t)sw_get_le16(p + 2) << 16;
+}
+
+static inline uint64_t sw_get_le64(const uint8_t *p)
+{
+	return sw_get_le32(p) | (uint64_t)sw_get_le32(p + 4) << 32;
+}
+
+/* Parameter n (1-based) of a blob as a host float, independent of host order. */
+float sw_blob_param(const uint8_t *blob, int n);
+void sw_blob_set_param(uint8_t *blob, int n, float v);
+
+/* Float g <-> accelerometer LSB with the seed's 0.000488 g/LSB. */
+float sw_lsb_to_g(int lsb);
+int sw_g_to_lsb(float g);
+
+#endif

@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: GPL-2.0-only
+#include <string.h>
+
+#include "fake_backend.h"
+
+static struct fake_be *to_fake(struct sw_backend *b)
+{
+	return (struct fake_be *)b;
+}
+
+static int f_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
+		       struct sw_err *e)
+{
+	(void)e;
+	*ci = to_fake(b)->chip;
+	return SW_EXIT_OK;
+}
+
+static void current_state(struct fake_be *f, struct sw_cal_state *cs)
+{
+	size_t i;
+
+	*cs = f->cs;
+	for (i = 0; i < f->nsteps; i++) {
+		if (f->script[i].at_ms > f->clk->now_ms)
+			break;
+		cs->status = f->script[i].status;
+		cs->score_raw = f->script[i].score_raw;
+		cs->gyro_bias_update = f->script[i].gyro_bias_update;
+	}
+}
+
+static int f_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
+		       struct sw_err *e)
+{
+	(void)e;
+	current_state(to_fake(b), cs);
+	return SW_EXIT_OK;
+}
+
+static int f_read_blob(struct sw_backend *b, uint8_t *blob, struct sw_err *e)
+{
+	struct fake_be *f = to_fake(b);
+
+	(void)e;
+	f->reads++;
+	if (f->blob_follows_score) {
+		struct sw_cal_state cs;
+
+		current_state(f, &cs);
+		sw_blob_set_param(f->blob, 18, (float)cs.score_raw);
+	}
+	memcpy(blob, f->blob, SW_BLOB_SIZE);
+	return SW_EXIT_OK;
+}
+
+static int f_write_blob(struct sw_backend *b, const uint8_t *blob,
+			struct sw_err *e)
+{
+	struct fake_be *f = to_fake(b);
+
+	if (f->fail_write)
+		return sw_err_set(e, f->fail_write, "fake: write failed");
+	f->writes++;
+	memcpy(f->blob, blob, SW_BLOB_SIZE);
+	if (f->status_after_write >= 0)
+		f->cs.status = f->status_after_write;
+	return SW_EXIT_OK;
+}
+
+static int f_accel_raw(struct sw_backend *b, int xyz[3], struct sw_err *e)
+{
+	static const int expect[3] = { 0, 0, SW_ACCEL_1G_LSB };
+	struct fake_be *f = to_fake(b);
+	int k, n = (f->samples_read++ & 1) ? f->noise : -f->noise;
+
+	(void)e;
+	for (k = 0; k < 3; k++)
+		xyz[k] = expect[k] + f->bias[k] - f->offset[k] + n;
+	return SW_EXIT_OK;
+}
+
+static int f_offset_get(struct sw_backend *b, int lsb[3], struct sw_err *e)
+{
+	struct fake_be *f = to_fake(b);
+
+	(void)e;
+	memcpy(lsb, f->offset, sizeof(f->offset));
+	if (f->offset_readback_wrong)
+		lsb[0]++;
+	return SW_EXIT_OK;
+}
+
+static int f_offset_set(struct sw_backend *b, const int lsb[3],
+			struct sw_err *e)
+{
+	(void)e;
+	memcpy(to_fake(b)->offset, lsb, sizeof(to_fake(b)->offset));
+	return SW_EXIT_OK;
+}
+
+static void f_close(struct sw_backend *b)
+{
+	(void)b;
+}
+
+static const struct sw_backend_ops fake_ops = {
+	.chip_info = f_chip_info,
+	.cal_state = f_cal_state,
+	.read_blob = f_read_blob,
+	.write_blob = f_write_blob,
+	.accel_raw = f_accel_raw,
+	.accel_offset_get = f_offset_get,
+	.accel_offset_set = f_offset_set,
+	.close = f_close,
+};
+
+void fake_fill_blob(uint8_t *blob)
+{
+	int i;
+
+	for (i = 1; i <= SW_NPARAMS; i++)
+		sw_blob_set_param(blob, i, (float)i * 0.5f);
+}
+
+void fake_init(struct fake_be *f, struct fake_clock *clk)
+{
+	memset(f, 0, sizeof(*f));
+	f->b.ops = &fake_ops;
+	f->b.kind = "fake";
+	strcpy(f->b.name, "iio:device0");
+	strcpy(f->b.key, "platform-sentral-sim");
+	f->clk = clk;
+	f->chip.product_id = 0x80;
+	f->chip.revision_id = 0x02;
+	f->chip.rom_version = 0x09e6;
+	f->chip.ram_version = 0x0c05;
+	f->cs.status = 3;
+	f->cs.score_raw = sw_score_raw(2.5);
+	f->status_after_write = 3;
+	fake_fill_blob(f->blob);
+}
+
+static uint64_t f_now(void *clk)
+{
+	return ((struct fake_clock *)clk)->now_ms;
+}
+
+static void f_sleep(void *clk, unsigned int ms)
+{
+	((struct fake_clock *)clk)->now_ms += ms;
+}
+
+static uint64_t f_wall(void *clk)
+{
+	return ((struct fake_clock *)clk)->wall_s;
+}
+
+void fake_env(struct sw_env *env, struct fake_clock *clk, FILE *out,
+	      FILE *err)
+{
+	memset(env, 0, sizeof(*env));
+	env->out = out;
+	env->err = err;
+	env->clk = clk;
+	env->now_ms = f_now;
+	env->sleep_ms = f_sleep;
+	env->wall_s = f_wall;
+}

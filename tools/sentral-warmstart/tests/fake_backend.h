@@ -1,0 +1,50 @@
+/* SPDX-License-Identifier: GPL-2.0-only */
+/*
+ * A fake EM7180 behind the backend interface, with a fake clock, for the
+ * unit tests of the commands and the policy.
+ */
+#ifndef SW_FAKE_BACKEND_H
+#define SW_FAKE_BACKEND_H
+
+#include "cmd.h"
+
+struct fake_clock {
+	uint64_t now_ms;
+	uint64_t wall_s;
+};
+
+/* From at_ms on, cal_state reports this (a calibration script). */
+struct fake_step {
+	uint64_t at_ms;
+	int status;
+	uint16_t score_raw;
+	int gyro_bias_update;
+};
+
+struct fake_be {
+	struct sw_backend b;
+	struct fake_clock *clk;
+	struct sw_chip_info chip;
+	struct sw_cal_state cs;		/* when there is no script */
+	const struct fake_step *script;
+	size_t nsteps;
+	int status_after_write;		/* -1: a restore changes nothing */
+	uint8_t blob[SW_BLOB_SIZE];
+	bool blob_follows_score;	/* blob param 18 = current score */
+	int writes, reads;
+	int fail_write;			/* exit code write_blob returns */
+	/* accel: output = bias + expected - offset (+ alternating noise) */
+	int bias[3];
+	int offset[3];
+	int noise;
+	bool offset_readback_wrong;
+	unsigned int samples_read;
+};
+
+void fake_init(struct fake_be *f, struct fake_clock *clk);
+void fake_env(struct sw_env *env, struct fake_clock *clk, FILE *out,
+	      FILE *err);
+/* The parameters of a plausible blob: i * 0.5 for parameter i. */
+void fake_fill_blob(uint8_t *blob);
+
+#endif

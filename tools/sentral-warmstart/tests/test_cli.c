@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * Unit tests: command-line parsing, good and bad.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "cli.h"
+
+#define MAXARGS 16
+
+static int parse(struct sw_opts *o, struct sw_err *e, ...)
+{
+	char *argv[MAXARGS + 1] = { "sentral-warmstart" };
+	int argc = 1;
+	va_list ap;
+	char *a;
+
+	va_start(ap, e);
+	while ((a = va_arg(ap, char *)) && argc < MAXARGS)
+		argv[argc++] = a;
+	va_end(ap);
+	argv[argc] = NULL;
+	sw_err_clear(e);
+	return sw_parse_args(argc, argv, o, e);
+}
+
+static void test_defaults(void **state)
+{
+	struct sw_opts o;
+	struct sw_err e;
+
+	(void)state;
+	assert_int_equal(parse(&o, &e, "status", NULL), SW_EXIT_OK);
+	assert_int_equal(o.cmd, SW_CMD_STATUS);
+	assert_null(o.device);
+	assert_null(o.i2c_dev);
+	assert_int_equal(o.address, 0x28);
+	assert_string_equal(o.state_dir, "/var/lib/sentral-warmstart");
+	assert_true(o.max_score == 5.0);
+	assert_true(o.target_score == 3.0);
+	assert_int_equal(o.timeout_s, 120);
+	assert_int_equal(o.samples, 64);
+}
+
+static void test_good(void **state)
+{
+	struct sw_opts o;
+	struct sw_err e;
+
+	(void)state;
+	assert_int_equal(parse(&o, &e, "--device", "iio:device1", "status",
+			       "--json", NULL), SW_EXIT_OK);
+	assert_string_equal(o.device, "iio:device1");
+	assert_true(o.json);
+	assert_int_equal(parse(&o, &e, "--i2c", "/dev/i2c-3", "--address",
+			       "0x29", "save", "--file", "/tmp/x.ws", "--force",
+			       NULL), SW_EXIT_OK);
+	assert_int_equal(o.cmd, SW_CMD_SAVE);
+	assert_string_equal(o.i2c_dev, "/dev/i2c-3");
+	assert_int_equal(o.address, 0x29);
+	assert_string_equal(o.file, "/tmp/x.ws");
+	assert_true(o.force);
+	assert_int_equal(parse(&o, &e, "restore", "--if-present", "--state-dir",
+			       "/s", NULL), SW_EXIT_OK);
+	assert_true(o.if_present);
+	assert_string_equal(o.state_dir, "/s");
+	assert_int_equal(parse(&o, &e, "show", "a.ws", NULL), SW_EXIT_OK);
+	assert_int_equal(o.cmd, SW_CMD_SHOW);
+	assert_string_equal(o.file, "a.ws");
+	assert_int_equal(parse(&o, &e, "calibrate", "--timeout", "30",
+			       "--target-score", "2.5", "--max-score", "4",
+			       NULL), SW_EXIT_OK);
+	assert_int_equal(o.timeout_s, 30);
+	assert_true(o.target_score == 2.5);
+	assert_true(o.max_score == 4.0);
+	assert_int_equal(parse(&o, &e, "accel-cal", "--samples", "16", NULL),
+			 SW_EXIT_OK);
+	assert_int_equal(o.samples, 16);
+	assert_int_equal(parse(&o, &e, "--help", NULL), SW_EXIT_OK);
+	assert_true(o.help);
+	assert_int_equal(parse(&o, &e, "-V", NULL), SW_EXIT_OK);
+	assert_true(o.version);
+	/* Parsing twice in one process works (getopt is re-initialised). */
+	assert_int_equal(parse(&o, &e, "-d", "em7180", "save", NULL),
+			 SW_EXIT_OK);
+	assert_string_equal(o.device, "em7180");
+}
+
+static void expect_usage(const char *want, ...)
+{
+	char *argv[MAXARGS + 1] = { "sentral-warmstart" };
+	struct sw_opts o;
+	struct sw_err e;
+	int argc = 1;
+	va_list ap;
+	char *a;
+
+	va_start(ap, want);
+	while ((a = va_arg(ap, char *)) && argc < MAXARGS)
+		argv[argc++] = a;
+	va_end(ap);
+	argv[argc] = NULL;
+	sw_err_clear(&e);
+	assert_int_equal(sw_parse_args(argc, argv, &o, &e), SW_EXIT_USAGE);
+	if (!strstr(e.msg, want))
+		fail_msg("message \"%s\" lacks \"%s\"", e.msg, want);
+}
+
+static void test_errors(void **state)
+{
+	(void)state;
+	expect_usage("no command", NULL);
+	expect_usage("no command", "--device", "x", NULL);
+	expect_usage("unknown command 'frobnicate'", "frobnicate", NULL);
+	expect_usage("unknown option '--bogus'", "status", "--bogus", NULL);
+	expect_usage("needs an argument", "status", "--device", NULL);
+	expect_usage("exclude each other", "--device", "a", "--i2c",
+		     "/dev/i2c-0", "status", NULL);
+	expect_usage("--address is only meaningful", "--address", "0x28",
+		     "status", NULL);
+	expect_usage("--address", "--i2c", "/dev/i2c-0", "--address", "0x80",
+		     "status", NULL);
+	expect_usage("--address", "--i2c", "/dev/i2c-0", "--address", "zz",
+		     "status", NULL);
+	expect_usage("--json is not an option", "save", "--json", NULL);
+	expect_usage("--if-present is not an option", "save", "--if-present",
+		     NULL);
+	expect_usage("--timeout is not an option", "save", "--timeout", "3",
+		     NULL);
+	expect_usage("--samples is not an option", "calibrate", "--samples",
+		     "3", NULL);
+	expect_usage("--force is not an option", "status", "--force", NULL);
+	expect_usage("--timeout", "calibrate", "--timeout", "0", NULL);
+	expect_usage("--timeout", "calibrate", "--timeout", "-5", NULL);
+	expect_usage("--max-score", "save", "--max-score", "nan", NULL);
+	expect_usage("--max-score", "save", "--max-score", "101", NULL);
+	expect_usage("--samples", "accel-cal", "--samples", "0", NULL);
+	expect_usage("show needs a FILE", "show", NULL);
+	expect_usage("unexpected argument 'b.ws'", "show", "a.ws", "b.ws", NULL);
+	expect_usage("unexpected argument 'extra'", "status", "extra", NULL);
+	expect_usage("show reads a file only", "--device", "x", "show", "a.ws",
+		     NULL);
+	expect_usage("--state-dir is empty", "--state-dir", "", "status", NULL);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_defaults),
+		cmocka_unit_test(test_good),
+		cmocka_unit_test(test_errors),
+	};
+
+	return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
+}

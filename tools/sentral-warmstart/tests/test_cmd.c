@@ -1,0 +1,523 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * Unit tests: save, restore, status, show, calibrate and accel-cal against
+ * a fake chip and a fake clock.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "fake_backend.h"
+#include "wsfile.h"
+
+struct ctx {
+	char dir[64];
+	char path[128];
+	struct fake_clock clk;
+	struct fake_be fb;
+	struct sw_opts o;
+	struct sw_env env;
+	struct sw_err e;
+	char *out, *err;
+	size_t out_len, err_len;
+	FILE *outf, *errf;
+};
+
+static int setup(void **state)
+{
+	struct ctx *c = calloc(1, sizeof(*c));
+
+	strcpy(c->dir, "/tmp/sw-cmd-XXXXXX");
+	if (!mkdtemp(c->dir))
+		return -1;
+	snprintf(c->path, sizeof(c->path), "%s/platform-sentral-sim.ws",
+		 c->dir);
+	c->clk.now_ms = 1000;
+	c->clk.wall_s = 1800000000;
+	fake_init(&c->fb, &c->clk);
+	c->outf = open_memstream(&c->out, &c->out_len);
+	c->errf = open_memstream(&c->err, &c->err_len);
+	fake_env(&c->env, &c->clk, c->outf, c->errf);
+	c->o.state_dir = c->dir;
+	c->o.address = 0x28;
+	c->o.max_score = 5.0;
+	c->o.target_score = 3.0;
+	c->o.timeout_s = 60;
+	c->o.samples = 32;
+	sw_err_clear(&c->e);
+	*state = c;
+	return 0;
+}
+
+static int teardown(void **state)
+{
+	struct ctx *c = *state;
+	char cmd[128];
+
+	fclose(c->outf);
+	fclose(c->errf);
+	free(c->out);
+	free(c->err);
+	snprintf(cmd, sizeof(cmd), "rm -rf '%s'", c->dir);
+	if (system(cmd) != 0)
+		return -1;
+	free(c);
+	return 0;
+}
+
+static const char *out_text(struct ctx *c)
+{
+	fflush(c->outf);
+	return c->out;
+}
+
+static bool load(struct ctx *c, struct sw_file *f)
+{
+	uint8_t buf[SW_FILE_MAX_READ + 1];
+	struct sw_err e;
+	size_t len;
+
+	sw_err_clear(&e);
+	if (sw_file_read(c->path, true, buf, &len, NULL, &e))
+		return false;
+	return sw_file_decode(buf, len, f, NULL, 0) == SW_CHECK_OK;
+}
+
+static int save(struct ctx *c)
+{
+	sw_err_clear(&c->e);
+	return sw_cmd_save(&c->fb.b, &c->o, &c->env, &c->e);
+}
+
+static int restore(struct ctx *c)
+{
+	sw_err_clear(&c->e);
+	return sw_cmd_restore(&c->fb.b, &c->o, &c->env, &c->e);
+}
+
+static void test_save_good(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+	struct stat st;
+
+	c->fb.cs.score_raw = sw_score_raw(2.9);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.cal_status, 3);
+	assert_int_equal(f.score_raw, sw_score_raw(2.9));
+	assert_true(f.saved_at == 1800000000);
+	assert_int_equal(f.chip.rom_version, 0x09e6);
+	assert_memory_equal(f.payload, c->fb.blob, SW_BLOB_SIZE);
+	assert_int_equal(stat(c->path, &st), 0);
+	assert_int_equal(st.st_mode & 0777, 0600);
+	assert_non_null(strstr(out_text(c), "saved iio:device0"));
+}
+
+static void test_save_policy_refusals(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	c->fb.cs.status = 2;
+	assert_int_equal(save(c), SW_EXIT_POLICY);
+	assert_non_null(strstr(c->e.msg, "incomplete"));
+	assert_int_equal(access(c->path, F_OK), -1);
+
+	c->fb.cs.status = 3;
+	c->fb.cs.score_raw = sw_score_raw(6.0);
+	assert_int_equal(save(c), SW_EXIT_POLICY);
+	assert_int_equal(access(c->path, F_OK), -1);
+	c->o.max_score = 7.0;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+
+	/* A good file is not replaced by a worse calibration... */
+	c->o.max_score = 5.0;
+	c->fb.cs.score_raw = sw_score_raw(2.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->fb.cs.score_raw = sw_score_raw(4.0);
+	sw_blob_set_param(c->fb.blob, 1, 99.0f);
+	assert_int_equal(save(c), SW_EXIT_POLICY);
+	assert_non_null(strstr(c->e.msg, "worse"));
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(2.0));
+	/* ...unless forced. */
+	c->o.force = true;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(4.0));
+	assert_true(sw_blob_param(f.payload, 1) == 99.0f);
+}
+
+static void test_save_over_bad_file(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+	FILE *fp;
+
+	fp = fopen(c->path, "w");
+	assert_non_null(fp);
+	fputs("garbage", fp);
+	fclose(fp);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "replacing unusable"));
+	assert_true(load(c, &f));
+
+	/* A file for another ROM does not block a save either. */
+	c->fb.chip.rom_version = 0x07a8;
+	c->fb.cs.score_raw = sw_score_raw(4.9);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.chip.rom_version, 0x07a8);
+}
+
+static void test_save_nonfinite_blob(void **state)
+{
+	struct ctx *c = *state;
+
+	sw_blob_set_param(c->fb.blob, 20, 0.0f / 0.0f);
+	assert_int_equal(save(c), SW_EXIT_IO);
+	assert_non_null(strstr(c->e.msg, "mcoeffs[3]"));
+	assert_int_equal(access(c->path, F_OK), -1);
+}
+
+static void test_save_refuses_symlink(void **state)
+{
+	struct ctx *c = *state;
+	char target[128];
+
+	snprintf(target, sizeof(target), "%s/elsewhere", c->dir);
+	assert_int_equal(symlink(target, c->path), 0);
+	assert_int_equal(save(c), SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg, "symbolic link"));
+	assert_int_equal(access(target, F_OK), -1);
+}
+
+static void test_restore_good(void **state)
+{
+	struct ctx *c = *state;
+	uint8_t saved[SW_BLOB_SIZE];
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	memcpy(saved, c->fb.blob, SW_BLOB_SIZE);
+	/* A fresh power-on: defaults in the chip, not calibrated. */
+	memset(c->fb.blob, 0, SW_BLOB_SIZE);
+	c->fb.cs.status = 0;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 1);
+	assert_memory_equal(c->fb.blob, saved, SW_BLOB_SIZE);
+	assert_non_null(strstr(out_text(c), "restored iio:device0"));
+}
+
+static void test_restore_missing(void **state)
+{
+	struct ctx *c = *state;
+
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg, "does not exist"));
+	c->o.if_present = true;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "nothing to restore"));
+	assert_int_equal(c->fb.writes, 0);
+}
+
+static void test_restore_refuses_bad_files(void **state)
+{
+	struct ctx *c = *state;
+	uint8_t good[SW_FILE_SIZE], buf[SW_FILE_SIZE];
+	const struct { size_t off; const char *check; } cases[] = {
+		{ 0, "wrong magic" }, { 8, "unknown version" },
+		{ 28, "payload size" }, { 40, "bad CRC" }, { 175, "bad CRC" },
+	};
+	struct sw_err e;
+	size_t i;
+	FILE *fp;
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	fp = fopen(c->path, "r");
+	assert_non_null(fp);
+	assert_int_equal(fread(good, 1, sizeof(good), fp), sizeof(good));
+	fclose(fp);
+	for (i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+		memcpy(buf, good, sizeof(buf));
+		buf[cases[i].off] ^= 0x10;
+		sw_err_clear(&e);
+		assert_int_equal(sw_file_write_atomic(c->path, buf, sizeof(buf),
+						      &e), SW_EXIT_OK);
+		assert_int_equal(restore(c), SW_EXIT_FILE);
+		if (!strstr(c->e.msg, cases[i].check))
+			fail_msg("offset %zu: \"%s\" lacks \"%s\"", cases[i].off,
+				 c->e.msg, cases[i].check);
+		assert_non_null(strstr(c->e.msg, "not touched"));
+	}
+	/* Truncated. */
+	assert_int_equal(sw_file_write_atomic(c->path, good, 100, &e),
+			 SW_EXIT_OK);
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg, "truncated"));
+	/* --if-present does not excuse a bad file. */
+	c->o.if_present = true;
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_int_equal(c->fb.writes, 0);
+}
+
+static void test_restore_chip_mismatch(void **state)
+{
+	struct ctx *c = *state;
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->fb.chip.ram_version = 0x0c06;
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg, "RAM version mismatch"));
+	assert_non_null(strstr(c->e.msg, "--force"));
+	c->fb.chip.ram_version = 0x0c05;
+	c->fb.chip.product_id = 0x81;
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg, "ProductID mismatch"));
+	c->fb.chip.product_id = 0x80;
+	c->fb.chip.rom_version = 0x07a8;
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg, "ROM version mismatch"));
+	assert_int_equal(c->fb.writes, 0);
+	c->o.force = true;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 1);
+	assert_non_null(strstr(out_text(c), "restoring anyway"));
+}
+
+static void test_restore_not_calibrated_after(void **state)
+{
+	struct ctx *c = *state;
+	uint64_t t0;
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->fb.cs.status = 1;
+	c->fb.status_after_write = -1;
+	t0 = c->clk.now_ms;
+	assert_int_equal(restore(c), SW_EXIT_CAL);
+	assert_non_null(strstr(c->e.msg, "calibration_status is 1"));
+	/* It waited, but not for ever. */
+	assert_true(c->clk.now_ms - t0 >= 2000 && c->clk.now_ms - t0 < 3000);
+}
+
+static void test_restore_write_error(void **state)
+{
+	struct ctx *c = *state;
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->fb.fail_write = SW_EXIT_IO;
+	assert_int_equal(restore(c), SW_EXIT_IO);
+	assert_non_null(strstr(c->e.msg, "fake: write failed"));
+}
+
+static void test_status(void **state)
+{
+	struct ctx *c = *state;
+
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "calibration status:  3 (complete)"));
+	assert_non_null(strstr(out_text(c), "no saved calibration"));
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->o.json = true;
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "{\"device\":\"iio:device0\",\"backend\":\"fake\",\"key\":\"platform-sentral-sim\",\"product_id\":128,"));
+	assert_non_null(strstr(out_text(c), "\"calibration_status\":3,\"calibration_score\":2.499,"));
+	assert_non_null(strstr(out_text(c), "\"saved\":{\"calibration_status\":3,"));
+}
+
+static void test_show(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_opts o = c->o;
+
+	sw_blob_set_param(c->fb.blob, 27, sw_lsb_to_g(-47));
+	assert_int_equal(save(c), SW_EXIT_OK);
+	o.file = c->path;
+	assert_int_equal(sw_cmd_show(&o, &c->env, &c->e), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "ROM version:         0x09e6"));
+	assert_non_null(strstr(out_text(c), " 1  xstates[1]  "));
+	assert_non_null(strstr(out_text(c), "27  acoeffs[4]  0xbcbbe447"));
+	assert_non_null(strstr(out_text(c), "(accel X offset, -47 LSB)"));
+	assert_non_null(strstr(out_text(c), "35  gcoeffs[6]"));
+	assert_int_equal(truncate(c->path, 150), 0);
+	assert_int_equal(sw_cmd_show(&o, &c->env, &c->e), SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg, "refused: truncated"));
+}
+
+static const struct fake_step cal_ok[] = {
+	{ 0, 0, 0xffff, 0 },
+	{ 3000, 0, 0xffff, 1 },		/* gyro bias learned */
+	{ 3500, 1, 0xffff, 0 },
+	{ 5000, 2, 0xffff, 0 },
+	{ 7000, 3, 0x8000 + 3276, 0 },	/* about 10 % */
+	{ 9000, 3, 0x8000 + 1500, 0 },
+	{ 11000, 3, 0x8000 + 900, 0 },	/* 2.747 %: done */
+};
+
+static void test_calibrate(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	c->clk.now_ms = 0;
+	c->fb.script = cal_ok;
+	c->fb.nsteps = sizeof(cal_ok) / sizeof(cal_ok[0]);
+	c->fb.blob_follows_score = true;
+	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_true(c->clk.now_ms >= 11000 && c->clk.now_ms < 12000);
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, 0x8000 + 900);
+	assert_true(sw_blob_param(f.payload, 18) == (float)(0x8000 + 900));
+	assert_non_null(strstr(out_text(c), "figure-8"));
+	assert_non_null(strstr(out_text(c), "calibrate: status 3/3"));
+	assert_non_null(strstr(out_text(c), "Calibration complete"));
+}
+
+/* Stuck at 4 %, then worse: keep and save the 4 % snapshot. */
+static const struct fake_step cal_plateau[] = {
+	{ 0, 0, 0xffff, 1 },
+	{ 2000, 3, 0x8000 + 1311, 0 },	/* 4.0 % */
+	{ 4000, 3, 0x8000 + 1600, 0 },	/* 4.9 % */
+};
+
+static void test_calibrate_timeout_keeps_best(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	c->clk.now_ms = 0;
+	c->o.timeout_s = 10;
+	c->fb.script = cal_plateau;
+	c->fb.nsteps = sizeof(cal_plateau) / sizeof(cal_plateau[0]);
+	c->fb.blob_follows_score = true;
+	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, 0x8000 + 1311);
+	assert_true(sw_blob_param(f.payload, 18) == (float)(0x8000 + 1311));
+	assert_non_null(strstr(out_text(c), "Timed out"));
+}
+
+static const struct fake_step cal_never[] = {
+	{ 0, 0, 0xffff, 1 },
+	{ 1000, 2, 0xffff, 0 },
+};
+
+static void test_calibrate_incomplete(void **state)
+{
+	struct ctx *c = *state;
+
+	c->clk.now_ms = 0;
+	c->o.timeout_s = 5;
+	c->fb.script = cal_never;
+	c->fb.nsteps = 2;
+	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_CAL);
+	assert_non_null(strstr(c->e.msg, "did not complete"));
+	assert_int_equal(access(c->path, F_OK), -1);
+
+	/* Never still: the gyro bias is never learned. */
+	c->clk.now_ms = 0;
+	c->fb.nsteps = 0;
+	c->fb.cs.gyro_bias_update = 0;
+	sw_err_clear(&c->e);
+	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_CAL);
+	assert_non_null(strstr(c->e.msg, "gyro bias"));
+}
+
+static void test_calibrate_tty_bar(void **state)
+{
+	struct ctx *c = *state;
+
+	c->clk.now_ms = 0;
+	c->env.tty = true;
+	c->fb.script = cal_ok;
+	c->fb.nsteps = sizeof(cal_ok) / sizeof(cal_ok[0]);
+	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "\r[##############################] status 3/3"));
+}
+
+static void test_accel_cal(void **state)
+{
+	struct ctx *c = *state;
+
+	/* The seed's Table 1 bias, noise of +-2 LSB. */
+	c->fb.bias[0] = -47;
+	c->fb.bias[1] = -15;
+	c->fb.bias[2] = 46;
+	c->fb.noise = 2;
+	assert_int_equal(sw_cmd_accel_cal(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_int_equal(c->fb.offset[0], -47);
+	assert_int_equal(c->fb.offset[1], -15);
+	assert_int_equal(c->fb.offset[2], 46);
+	assert_non_null(strstr(out_text(c), "-0.022936 -0.007320 0.022448 g"));
+	/* Running it again with the offsets applied changes nothing. */
+	assert_int_equal(sw_cmd_accel_cal(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_int_equal(c->fb.offset[0], -47);
+	assert_int_equal(c->fb.offset[2], 46);
+}
+
+static void test_accel_cal_refusals(void **state)
+{
+	struct ctx *c = *state;
+
+	c->fb.noise = 50;
+	assert_int_equal(sw_cmd_accel_cal(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_CAL);
+	assert_non_null(strstr(c->e.msg, "moved"));
+	c->fb.noise = 0;
+	c->fb.bias[2] = -2048;	/* lying on its side */
+	sw_err_clear(&c->e);
+	assert_int_equal(sw_cmd_accel_cal(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_CAL);
+	assert_non_null(strstr(c->e.msg, "Z facing down"));
+	assert_int_equal(c->fb.offset[2], 0);
+	c->fb.bias[2] = 10;
+	c->fb.offset_readback_wrong = true;
+	sw_err_clear(&c->e);
+	assert_int_equal(sw_cmd_accel_cal(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_CAL);
+	assert_non_null(strstr(c->e.msg, "read back"));
+}
+
+#define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		T(test_save_good),
+		T(test_save_policy_refusals),
+		T(test_save_over_bad_file),
+		T(test_save_nonfinite_blob),
+		T(test_save_refuses_symlink),
+		T(test_restore_good),
+		T(test_restore_missing),
+		T(test_restore_refuses_bad_files),
+		T(test_restore_chip_mismatch),
+		T(test_restore_not_calibrated_after),
+		T(test_restore_write_error),
+		T(test_status),
+		T(test_show),
+		T(test_calibrate),
+		T(test_calibrate_timeout_keeps_best),
+		T(test_calibrate_incomplete),
+		T(test_calibrate_tty_bar),
+		T(test_accel_cal),
+		T(test_accel_cal_refusals),
+	};
+
+	return cmocka_run_group_tests_name("commands", tests, NULL, NULL);
+}

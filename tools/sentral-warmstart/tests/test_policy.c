@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * Unit tests: the save policy's decisions.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "policy.h"
+
+static bool decide(int status, double pct, bool have_old, int old_status,
+		   double old_pct, bool force, char *why, size_t len)
+{
+	struct sw_policy_in in = {
+		.status = status, .score_raw = sw_score_raw(pct),
+		.max_score = SW_DEFAULT_MAX_SCORE, .have_old = have_old,
+		.old_status = old_status, .old_score_raw = sw_score_raw(old_pct),
+		.force = force,
+	};
+
+	return sw_policy_save(&in, why, len);
+}
+
+static void test_incomplete_refused(void **state)
+{
+	char why[256];
+	int st;
+
+	(void)state;
+	for (st = 0; st < 3; st++) {
+		assert_false(decide(st, 1.0, false, 0, 0, false, why, sizeof(why)));
+		assert_non_null(strstr(why, "incomplete"));
+	}
+	/* Not even when better than a file. */
+	assert_false(decide(2, 1.0, true, 3, 9.0, false, why, sizeof(why)));
+}
+
+static void test_limit(void **state)
+{
+	char why[256];
+
+	(void)state;
+	assert_true(decide(3, 2.9, false, 0, 0, false, why, sizeof(why)));
+	assert_true(decide(3, 5.0, false, 0, 0, false, why, sizeof(why)));
+	assert_false(decide(3, 5.01, false, 0, 0, false, why, sizeof(why)));
+	assert_non_null(strstr(why, "above the limit"));
+}
+
+static void test_configurable_limit(void **state)
+{
+	struct sw_policy_in in = {
+		.status = 3, .score_raw = sw_score_raw(6.5), .max_score = 7.0,
+	};
+	char why[256];
+
+	(void)state;
+	assert_true(sw_policy_save(&in, why, sizeof(why)));
+	in.max_score = 6.0;
+	assert_false(sw_policy_save(&in, why, sizeof(why)));
+}
+
+static void test_better_than_file(void **state)
+{
+	char why[256];
+
+	(void)state;
+	/* Above the limit but better than a worse file: an improvement. */
+	assert_true(decide(3, 7.0, true, 3, 9.0, false, why, sizeof(why)));
+	assert_non_null(strstr(why, "better"));
+	/* Above the limit and worse than the file: no. */
+	assert_false(decide(3, 9.5, true, 3, 9.0, false, why, sizeof(why)));
+	/* Within the limit and better: yes. */
+	assert_true(decide(3, 2.0, true, 3, 4.0, false, why, sizeof(why)));
+}
+
+static void test_never_worse_than_good_file(void **state)
+{
+	char why[256];
+
+	(void)state;
+	/* Both within the limit, the new one worse: keep the good file. */
+	assert_false(decide(3, 4.5, true, 3, 2.0, false, why, sizeof(why)));
+	assert_non_null(strstr(why, "--force"));
+	/* Equal: refresh allowed (gyro bias and the rest move on). */
+	assert_true(decide(3, 2.0, true, 3, 2.0, false, why, sizeof(why)));
+	/* An old file that was never complete is not "good". */
+	assert_true(decide(3, 4.5, true, 2, 2.0, false, why, sizeof(why)));
+}
+
+static void test_force(void **state)
+{
+	char why[256];
+
+	(void)state;
+	assert_true(decide(3, 4.5, true, 3, 2.0, true, why, sizeof(why)));
+	assert_non_null(strstr(why, "forced"));
+	assert_true(decide(1, 50.0, false, 0, 0, true, why, sizeof(why)));
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_incomplete_refused),
+		cmocka_unit_test(test_limit),
+		cmocka_unit_test(test_configurable_limit),
+		cmocka_unit_test(test_better_than_file),
+		cmocka_unit_test(test_never_worse_than_good_file),
+		cmocka_unit_test(test_force),
+	};
+
+	return cmocka_run_group_tests_name("policy", tests, NULL, NULL);
+}

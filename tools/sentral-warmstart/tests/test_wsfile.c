@@ -1,0 +1,497 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * Unit tests: the saved-file format, its checks and its atomic write.
+ */
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <cmocka.h>
+#include <zlib.h>
+
+#include "wsfile.h"
+#include "fake_backend.h"
+
+static void sample_file(struct sw_file *f)
+{
+	memset(f, 0, sizeof(*f));
+	f->chip.product_id = 0x80;
+	f->chip.revision_id = 0x02;
+	f->chip.rom_version = 0x09e6;
+	f->chip.ram_version = 0x0c05;
+	f->cal_status = 3;
+	f->score_raw = 0x817a;
+	f->saved_at = 0x123456789aULL;
+	fake_fill_blob(f->payload);
+}
+
+static void test_roundtrip(void **state)
+{
+	uint8_t buf[SW_FILE_SIZE];
+	struct sw_file in, out;
+	char detail[160];
+
+	(void)state;
+	sample_file(&in);
+	assert_int_equal(sw_file_encode(&in, buf), SW_FILE_SIZE);
+	assert_int_equal(sw_file_decode(buf, sizeof(buf), &out, detail,
+					 sizeof(detail)), SW_CHECK_OK);
+	assert_int_equal(out.chip.product_id, 0x80);
+	assert_int_equal(out.chip.revision_id, 0x02);
+	assert_int_equal(out.chip.rom_version, 0x09e6);
+	assert_int_equal(out.chip.ram_version, 0x0c05);
+	assert_int_equal(out.cal_status, 3);
+	assert_int_equal(out.score_raw, 0x817a);
+	assert_true(out.saved_at == 0x123456789aULL);
+	assert_memory_equal(out.payload, in.payload, SW_BLOB_SIZE);
+}
+
+/* The man page's byte layout, checked byte by byte. */
+static void test_layout(void **state)
+{
+	uint8_t buf[SW_FILE_SIZE];
+	struct sw_file f;
+
+	(void)state;
+	assert_int_equal(SW_FILE_SIZE, 176);
+	sample_file(&f);
+	sw_file_encode(&f, buf);
+	assert_memory_equal(buf, "SNTRLWS1", 8);
+	assert_int_equal(buf[8], 1);
+	assert_int_equal(buf[9], 0);
+	assert_int_equal(buf[10], 0x80);
+	assert_int_equal(buf[11], 0x02);
+	assert_int_equal(buf[12], 0xe6);
+	assert_int_equal(buf[13], 0x09);
+	assert_int_equal(buf[14], 0x05);
+	assert_int_equal(buf[15], 0x0c);
+	assert_int_equal(buf[16], 3);
+	assert_int_equal(buf[17], 0);
+	assert_int_equal(buf[18], 0x7a);
+	assert_int_equal(buf[19], 0x81);
+	assert_int_equal(buf[20], 0x9a);
+	assert_int_equal(buf[24], 0x12);
+	assert_int_equal(buf[27], 0);
+	assert_int_equal(buf[28], 140);
+	assert_int_equal(buf[29], 0);
+	assert_int_equal(buf[30], 0);
+	assert_int_equal(buf[31], 0);
+	/* Parameter 1 = 0.5f = 0x3f000000, little-endian. */
+	assert_int_equal(buf[32], 0x00);
+	assert_int_equal(buf[35], 0x3f);
+	assert_int_equal(sw_get_le32(buf + 172),
+			 (uint32_t)crc32(0L, buf, 172));
+}
+
+static void test_every_truncation(void **state)
+{
+	uint8_t buf[SW_FILE_SIZE];
+	struct sw_file f;
+	size_t len;
+
+	(void)state;
+	sample_file(&f);
+	sw_file_encode(&f, buf);
+	for (len = 0; len < SW_FILE_SIZE; len++) {
+		enum sw_file_check c = sw_file_decode(buf, len, NULL, NULL, 0);
+
+		if (c != SW_CHECK_TRUNCATED)
+			fail_msg("length %zu: got \"%s\"", len,
+				 sw_check_name(c));
+	}
+}
+
+static void test_trailing(void **state)
+{
+	uint8_t buf[SW_FILE_SIZE + 1];
+	struct sw_file f;
+
+	(void)state;
+	sample_file(&f);
+	sw_file_encode(&f, buf);
+	buf[SW_FILE_SIZE] = 0;
+	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
+			 SW_CHECK_TRAILING);
+}
+
+/* Which check must name a flipped bit at this offset. */
+static enum sw_file_check flip_check(size_t off)
+{
+	if (off < 8)
+		return SW_CHECK_MAGIC;
+	if (off < 10)
+		return SW_CHECK_VERSION;
+	if (off == 28 || off == 29)
+		return SW_CHECK_PAYLOAD_SIZE;
+	return SW_CHECK_CRC;
+}
+
+static void test_every_bit_flip(void **state)
+{
+	uint8_t good[SW_FILE_SIZE], buf[SW_FILE_SIZE];
+	struct sw_file f;
+	size_t off;
+	int bit, n = 0;
+
+	(void)state;
+	sample_file(&f);
+	sw_file_encode(&f, good);
+	for (off = 0; off < SW_FILE_SIZE; off++) {
+		for (bit = 0; bit < 8; bit++) {
+			enum sw_file_check c;
+
+			memcpy(buf, good, sizeof(buf));
+			buf[off] ^= (uint8_t)(1u << bit);
+			c = sw_file_decode(buf, sizeof(buf), NULL, NULL, 0);
+			if (c != flip_check(off))
+				fail_msg("flip at byte %zu bit %d: got \"%s\", want \"%s\"",
+					 off, bit, sw_check_name(c),
+					 sw_check_name(flip_check(off)));
+			n++;
+		}
+	}
+	assert_int_equal(n, SW_FILE_SIZE * 8);
+}
+
+static void test_nonfinite(void **state)
+{
+	const float bad[] = { NAN, INFINITY, -INFINITY };
+	uint8_t buf[SW_FILE_SIZE];
+	char detail[160];
+	struct sw_file f;
+	size_t i;
+	int n;
+
+	(void)state;
+	for (i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+		for (n = 1; n <= SW_NPARAMS; n++) {
+			sample_file(&f);
+			sw_blob_set_param(f.payload, n, bad[i]);
+			/* A valid CRC: only the value check can catch it. */
+			sw_file_encode(&f, buf);
+			assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL,
+							detail, sizeof(detail)),
+					 SW_CHECK_NONFINITE);
+			assert_non_null(strstr(detail, sw_param_name(n)));
+		}
+	}
+	/* A subnormal and the largest float are finite and fine. */
+	sample_file(&f);
+	sw_blob_set_param(f.payload, 5, 1e-45f);
+	sw_blob_set_param(f.payload, 6, 3.4028235e38f);
+	sw_file_encode(&f, buf);
+	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
+			 SW_CHECK_OK);
+}
+
+static void test_bad_fields(void **state)
+{
+	uint8_t buf[SW_FILE_SIZE];
+	struct sw_file f;
+
+	(void)state;
+	sample_file(&f);
+	f.cal_status = 4;
+	sw_file_encode(&f, buf);
+	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
+			 SW_CHECK_FIELD);
+
+	sample_file(&f);
+	sw_file_encode(&f, buf);
+	buf[30] = 1;
+	sw_put_le32(buf + 172, (uint32_t)crc32(0L, buf, 172));
+	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
+			 SW_CHECK_FIELD);
+
+	sample_file(&f);
+	sw_file_encode(&f, buf);
+	buf[8] = 2;
+	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
+			 SW_CHECK_VERSION);
+}
+
+static void test_match_chip(void **state)
+{
+	struct sw_chip_info chip = { 0x80, 0x02, 0x09e6, 0x0c05 };
+	struct sw_file f;
+	char detail[160];
+
+	(void)state;
+	sample_file(&f);
+	assert_int_equal(sw_file_match_chip(&f, &chip, NULL, 0), SW_CHECK_OK);
+	chip.revision_id = 0x03;	/* reported, not enforced */
+	assert_int_equal(sw_file_match_chip(&f, &chip, NULL, 0), SW_CHECK_OK);
+	chip.product_id = 0x81;
+	assert_int_equal(sw_file_match_chip(&f, &chip, detail, sizeof(detail)),
+			 SW_CHECK_PRODUCT);
+	assert_string_equal(detail, "file 0x80, chip 0x81");
+	chip.product_id = 0x80;
+	chip.rom_version = 0x07a8;
+	assert_int_equal(sw_file_match_chip(&f, &chip, NULL, 0), SW_CHECK_ROM);
+	chip.rom_version = 0x09e6;
+	chip.ram_version = 0;
+	assert_int_equal(sw_file_match_chip(&f, &chip, NULL, 0), SW_CHECK_RAM);
+}
+
+static void test_check_names(void **state)
+{
+	(void)state;
+	assert_string_equal(sw_check_name(SW_CHECK_MAGIC), "wrong magic");
+	assert_string_equal(sw_check_name(SW_CHECK_VERSION), "unknown version");
+	assert_string_equal(sw_check_name(SW_CHECK_CRC), "bad CRC");
+	assert_string_equal(sw_check_name(SW_CHECK_TRUNCATED), "truncated");
+	assert_string_equal(sw_check_name(SW_CHECK_PAYLOAD_SIZE), "payload size");
+	assert_string_equal(sw_check_name(SW_CHECK_NONFINITE), "non-finite float");
+	assert_string_equal(sw_param_name(1), "xstates[1]");
+	assert_string_equal(sw_param_name(17), "nparams[9]");
+	assert_string_equal(sw_param_name(18), "mcoeffs[1]");
+	assert_string_equal(sw_param_name(27), "acoeffs[4]");
+	assert_string_equal(sw_param_name(35), "gcoeffs[6]");
+	assert_string_equal(sw_param_name(36), "?");
+}
+
+/* Seed Table 1, bit-exact; and LSB -> g -> LSB over the whole range. */
+static void test_accel_units(void **state)
+{
+	const struct { int lsb; uint32_t bits; } t1[] = {
+		{ -47, 0xBCBBE447 }, { -15, 0xBBEFDC9C }, { 46, 0x3CB7E4DE },
+	};
+	uint8_t b[4];
+	size_t i;
+	int lsb;
+
+	(void)state;
+	for (i = 0; i < 3; i++) {
+		sw_blob_set_param(b, 1, sw_lsb_to_g(t1[i].lsb));
+		assert_int_equal(sw_get_le32(b), t1[i].bits);
+		/* Bus order is little-endian: lowest byte first. */
+		assert_int_equal(b[0], t1[i].bits & 0xff);
+	}
+	for (lsb = -32768; lsb <= 32767; lsb++)
+		if (sw_g_to_lsb(sw_lsb_to_g(lsb)) != lsb)
+			fail_msg("lsb %d does not round-trip", lsb);
+}
+
+static void test_score(void **state)
+{
+	char text[32];
+	unsigned int raw;
+
+	(void)state;
+	assert_true(sw_score_pct(0x8000) == 0.0);
+	assert_true(fabs(sw_score_pct(0x0000) + 100.0) < 1e-9);
+	/* The driver prints 3 decimals; that is enough to recover the raw value. */
+	for (raw = 0; raw <= 0xffff; raw++) {
+		snprintf(text, sizeof(text), "%.3f", sw_score_pct((uint16_t)raw));
+		if (sw_score_raw(strtod(text, NULL)) != raw)
+			fail_msg("raw 0x%04x -> \"%s\" does not round-trip", raw,
+				 text);
+	}
+}
+
+/* Atomic write in a scratch directory. */
+struct scratch {
+	char dir[64];
+	char state[128];
+	char file[192];
+};
+
+static int scratch_setup(void **state)
+{
+	struct scratch *s = calloc(1, sizeof(*s));
+
+	strcpy(s->dir, "/tmp/sw-test-XXXXXX");
+	if (!mkdtemp(s->dir))
+		return -1;
+	snprintf(s->state, sizeof(s->state), "%s/state", s->dir);
+	snprintf(s->file, sizeof(s->file), "%s/key.ws", s->state);
+	*state = s;
+	return 0;
+}
+
+static int scratch_teardown(void **state)
+{
+	struct scratch *s = *state;
+	char cmd[128];
+
+	snprintf(cmd, sizeof(cmd), "rm -rf '%s'", s->dir);
+	if (system(cmd) != 0)
+		return -1;
+	free(s);
+	return 0;
+}
+
+static int count_entries(const char *dir)
+{
+	struct dirent *de;
+	DIR *d = opendir(dir);
+	int n = 0;
+
+	assert_non_null(d);
+	while ((de = readdir(d)))
+		if (strcmp(de->d_name, ".") && strcmp(de->d_name, ".."))
+			n++;
+	closedir(d);
+	return n;
+}
+
+static void test_atomic_write(void **state)
+{
+	struct scratch *s = *state;
+	uint8_t buf[SW_FILE_SIZE], back[SW_FILE_MAX_READ + 1];
+	struct sw_err e;
+	struct sw_file f;
+	struct stat st;
+	size_t len;
+	int i;
+
+	sample_file(&f);
+	sw_file_encode(&f, buf);
+	sw_err_clear(&e);
+	umask(0);	/* the file must be 0600 whatever the umask */
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), &e),
+			 SW_EXIT_OK);
+	umask(022);
+	assert_int_equal(stat(s->state, &st), 0);
+	assert_int_equal(st.st_mode & 07777, 0700);
+	assert_int_equal(lstat(s->file, &st), 0);
+	assert_true(S_ISREG(st.st_mode));
+	assert_int_equal(st.st_mode & 07777, 0600);
+	assert_int_equal(count_entries(s->state), 1);	/* no temp left */
+	assert_int_equal(sw_file_read(s->file, true, back, &len, NULL, &e),
+			 SW_EXIT_OK);
+	assert_int_equal(len, SW_FILE_SIZE);
+	assert_memory_equal(back, buf, len);
+
+	/* Replacing: the new content, still one file. */
+	for (i = 0; i < 3; i++) {
+		f.score_raw = (uint16_t)(0x8100 + i);
+		sw_file_encode(&f, buf);
+		assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf),
+						      &e), SW_EXIT_OK);
+	}
+	assert_int_equal(count_entries(s->state), 1);
+	assert_int_equal(sw_file_read(s->file, true, back, &len, NULL, &e),
+			 SW_EXIT_OK);
+	assert_memory_equal(back, buf, SW_FILE_SIZE);
+
+	/* A loose directory mode is tightened. */
+	assert_int_equal(chmod(s->state, 0755), 0);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), &e),
+			 SW_EXIT_OK);
+	assert_int_equal(stat(s->state, &st), 0);
+	assert_int_equal(st.st_mode & 07777, 0700);
+}
+
+static void test_refuses_symlink(void **state)
+{
+	struct scratch *s = *state;
+	uint8_t buf[SW_FILE_SIZE], back[SW_FILE_MAX_READ + 1];
+	char victim[192], linkdir[192], viafile[224];
+	struct sw_err e;
+	struct sw_file f;
+	struct stat st;
+	size_t len;
+	int err;
+
+	sample_file(&f);
+	sw_file_encode(&f, buf);
+	assert_int_equal(mkdir(s->state, 0700), 0);
+	snprintf(victim, sizeof(victim), "%s/victim", s->dir);
+	{
+		FILE *v = fopen(victim, "w");
+
+		assert_non_null(v);
+		fputs("precious\n", v);
+		fclose(v);
+	}
+	assert_int_equal(symlink(victim, s->file), 0);
+
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), &e),
+			 SW_EXIT_FILE);
+	assert_non_null(strstr(e.msg, "symbolic link"));
+	assert_int_equal(lstat(s->file, &st), 0);
+	assert_true(S_ISLNK(st.st_mode));
+	assert_int_equal(stat(victim, &st), 0);
+	assert_int_equal(st.st_size, 9);	/* untouched */
+	assert_int_equal(count_entries(s->state), 1);	/* no temp left */
+
+	/* Reading through it is refused as well. */
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_read(s->file, true, back, &len, &err, &e),
+			 SW_EXIT_FILE);
+	assert_int_equal(err, ELOOP);
+
+	/* A symlinked state directory is refused. */
+	snprintf(linkdir, sizeof(linkdir), "%s/linkdir", s->dir);
+	assert_int_equal(symlink(s->state, linkdir), 0);
+	snprintf(viafile, sizeof(viafile), "%s/other.ws", linkdir);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(viafile, buf, sizeof(buf), &e),
+			 SW_EXIT_FILE);
+	assert_int_equal(count_entries(s->state), 1);
+
+	/* A target that is a directory is refused, nothing left behind. */
+	assert_int_equal(unlink(s->file), 0);
+	assert_int_equal(mkdir(s->file, 0700), 0);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), &e),
+			 SW_EXIT_FILE);
+	assert_int_equal(count_entries(s->state), 1);
+}
+
+static void test_read_oversized(void **state)
+{
+	struct scratch *s = *state;
+	uint8_t big[8192] = { 0 }, back[SW_FILE_MAX_READ + 1];
+	struct sw_err e;
+	size_t len;
+	FILE *fp;
+
+	memcpy(big, "SNTRLWS1\x01", 9);
+	assert_int_equal(mkdir(s->state, 0700), 0);
+	fp = fopen(s->file, "w");
+	assert_non_null(fp);
+	assert_int_equal(fwrite(big, 1, sizeof(big), fp), sizeof(big));
+	fclose(fp);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_read(s->file, true, back, &len, NULL, &e),
+			 SW_EXIT_OK);
+	assert_int_equal(len, SW_FILE_MAX_READ + 1);
+	back[28] = 140;
+	back[29] = 0;
+	assert_int_equal(sw_file_decode(back, len, NULL, NULL, 0),
+			 SW_CHECK_TRAILING);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_roundtrip),
+		cmocka_unit_test(test_layout),
+		cmocka_unit_test(test_every_truncation),
+		cmocka_unit_test(test_trailing),
+		cmocka_unit_test(test_every_bit_flip),
+		cmocka_unit_test(test_nonfinite),
+		cmocka_unit_test(test_bad_fields),
+		cmocka_unit_test(test_match_chip),
+		cmocka_unit_test(test_check_names),
+		cmocka_unit_test(test_accel_units),
+		cmocka_unit_test(test_score),
+		cmocka_unit_test_setup_teardown(test_atomic_write,
+						scratch_setup, scratch_teardown),
+		cmocka_unit_test_setup_teardown(test_refuses_symlink,
+						scratch_setup, scratch_teardown),
+		cmocka_unit_test_setup_teardown(test_read_oversized,
+						scratch_setup, scratch_teardown),
+	};
+
+	return cmocka_run_group_tests_name("wsfile", tests, NULL, NULL);
+}

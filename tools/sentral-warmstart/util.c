@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * sentral-warmstart: small helpers shared by every part of the tool.
+ */
+#include <math.h>
+#include <stdarg.h>
+#include <string.h>
+
+#include "sw.h"
+
+int sw_err_set(struct sw_err *e, int code, const char *fmt, ...)
+{
+	va_list ap;
+
+	if (!e)
+		return code;
+	/* The first failure is the cause; later ones are consequences. */
+	if (e->code != SW_EXIT_OK)
+		return e->code;
+	e->code = code;
+	va_start(ap, fmt);
+	vsnprintf(e->msg, sizeof(e->msg), fmt, ap);
+	va_end(ap);
+	return code;
+}
+
+void sw_err_clear(struct sw_err *e)
+{
+	e->code = SW_EXIT_OK;
+	e->msg[0] = '\0';
+}
+
+uint16_t sw_score_raw(double pct)
+{
+	double raw = round(pct * 32768.0 / 100.0) + 32768.0;
+
+	if (raw < 0)
+		return 0;
+	if (raw > 65535)
+		return 65535;
+	return (uint16_t)raw;
+}
+
+float sw_blob_param(const uint8_t *blob, int n)
+{
+	uint32_t u = sw_get_le32(blob + 4 * (n - 1));
+	float f;
+
+	memcpy(&f, &u, sizeof(f));
+	return f;
+}
+
+void sw_blob_set_param(uint8_t *blob, int n, float v)
+{
+	uint32_t u;
+
+	memcpy(&u, &v, sizeof(u));
+	sw_put_le32(blob + 4 * (n - 1), u);
+}
+
+/*
+ * Computed in double and rounded once to float: this gives the seed's
+ * Table 1 bit patterns exactly (-47 -> 0xBCBBE447, -15 -> 0xBBEFDC9C,
+ * +46 -> 0x3CB7E4DE).
+ */
+float sw_lsb_to_g(int lsb)
+{
+	return (float)(lsb * SW_G_PER_LSB);
+}
+
+int sw_g_to_lsb(float g)
+{
+	return (int)lround((double)g / SW_G_PER_LSB);
+}

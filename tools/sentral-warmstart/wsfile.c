@@ -1,0 +1,418 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * sentral-warmstart: saved-file encode, decode, validation and atomic I/O.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/random.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include "wsfile.h"
+
+static const char *const check_names[] = {
+	[SW_CHECK_OK] = "ok",
+	[SW_CHECK_TRUNCATED] = "truncated",
+	[SW_CHECK_MAGIC] = "wrong magic",
+	[SW_CHECK_VERSION] = "unknown version",
+	[SW_CHECK_PAYLOAD_SIZE] = "payload size",
+	[SW_CHECK_TRAILING] = "trailing data",
+	[SW_CHECK_CRC] = "bad CRC",
+	[SW_CHECK_FIELD] = "invalid header field",
+	[SW_CHECK_NONFINITE] = "non-finite float",
+	[SW_CHECK_PRODUCT] = "ProductID mismatch",
+	[SW_CHECK_ROM] = "ROM version mismatch",
+	[SW_CHECK_RAM] = "RAM version mismatch",
+};
+
+const char *sw_check_name(enum sw_file_check c)
+{
+	if ((unsigned int)c >= sizeof(check_names) / sizeof(check_names[0]))
+		return "unknown check";
+	return check_names[c];
+}
+
+/* Field offsets; the man page's FILE FORMAT table is the same list. */
+enum {
+	OFF_MAGIC = 0,
+	OFF_VERSION = 8,
+	OFF_PRODUCT = 10,
+	OFF_REVISION = 11,
+	OFF_ROM = 12,
+	OFF_RAM = 14,
+	OFF_STATUS = 16,
+	OFF_RSVD1 = 17,
+	OFF_SCORE = 18,
+	OFF_TIME = 20,
+	OFF_PSIZE = 28,
+	OFF_RSVD2 = 30,
+	OFF_PAYLOAD = SW_FILE_HDR_SIZE,
+	OFF_CRC = SW_FILE_HDR_SIZE + SW_BLOB_SIZE,
+};
+
+size_t sw_file_encode(const struct sw_file *f, uint8_t *buf)
+{
+	memset(buf, 0, SW_FILE_SIZE);
+	memcpy(buf + OFF_MAGIC, SW_FILE_MAGIC, 8);
+	sw_put_le16(buf + OFF_VERSION, SW_FILE_VERSION);
+	buf[OFF_PRODUCT] = f->chip.product_id;
+	buf[OFF_REVISION] = f->chip.revision_id;
+	sw_put_le16(buf + OFF_ROM, f->chip.rom_version);
+	sw_put_le16(buf + OFF_RAM, f->chip.ram_version);
+	buf[OFF_STATUS] = (uint8_t)f->cal_status;
+	sw_put_le16(buf + OFF_SCORE, f->score_raw);
+	sw_put_le64(buf + OFF_TIME, f->saved_at);
+	sw_put_le16(buf + OFF_PSIZE, SW_BLOB_SIZE);
+	memcpy(buf + OFF_PAYLOAD, f->payload, SW_BLOB_SIZE);
+	sw_put_le32(buf + OFF_CRC, (uint32_t)crc32(0L, buf, OFF_CRC));
+	return SW_FILE_SIZE;
+}
+
+int sw_blob_nonfinite(const uint8_t *blob)
+{
+	int n;
+
+	for (n = 1; n <= SW_NPARAMS; n++)
+		if (!isfinite(sw_blob_param(blob, n)))
+			return n;
+	return 0;
+}
+
+#define DETAIL(...) do { \
+		if (detail) \
+			snprintf(detail, detail_len, __VA_ARGS__); \
+	} while (0)
+
+/*
+ * The order matters: each check only looks at bytes an earlier check has
+ * shown to be present and meaningful, so a truncated file always reports
+ * "truncated" and a flipped magic or version byte names that field
+ * rather than the CRC that also no longer matches.
+ */
+enum sw_file_check sw_file_decode(const uint8_t *buf, size_t len,
+				  struct sw_file *f, char *detail,
+				  size_t detail_len)
+{
+	uint32_t crc_file, crc_calc;
+	unsigned int version, psize;
+	int bad;
+
+	if (len < OFF_VERSION) {
+		DETAIL("%zu bytes, shorter than the magic", len);
+		return SW_CHECK_TRUNCATED;
+	}
+	if (memcmp(buf + OFF_MAGIC, SW_FILE_MAGIC, 8) != 0) {
+		DETAIL("not a sentral-warmstart file (expected \"%s\")",
+		       SW_FILE_MAGIC);
+		return SW_CHECK_MAGIC;
+	}
+	if (len < OFF_VERSION + 2) {
+		DETAIL("%zu bytes, ends inside the header", len);
+		return SW_CHECK_TRUNCATED;
+	}
+	version = sw_get_le16(buf + OFF_VERSION);
+	if (version != SW_FILE_VERSION) {
+		DETAIL("format version %u, this tool reads version %d",
+		       version, SW_FILE_VERSION);
+		return SW_CHECK_VERSION;
+	}
+	if (len < SW_FILE_HDR_SIZE) {
+		DETAIL("%zu bytes, ends inside the %d-byte header", len,
+		       SW_FILE_HDR_SIZE);
+		return SW_CHECK_TRUNCATED;
+	}
+	psize = sw_get_le16(buf + OFF_PSIZE);
+	if (psize != SW_BLOB_SIZE) {
+		DETAIL("payload size %u, expected %d", psize, SW_BLOB_SIZE);
+		return SW_CHECK_PAYLOAD_SIZE;
+	}
+	if (len < SW_FILE_SIZE) {
+		DETAIL("%zu bytes, expected %d", len, SW_FILE_SIZE);
+		return SW_CHECK_TRUNCATED;
+	}
+	if (len > SW_FILE_SIZE) {
+		DETAIL("%zu bytes, expected %d", len, SW_FILE_SIZE);
+		return SW_CHECK_TRAILING;
+	}
+	crc_file = sw_get_le32(buf + OFF_CRC);
+	crc_calc = (uint32_t)crc32(0L, buf, OFF_CRC);
+	if (crc_file != crc_calc) {
+		DETAIL("stored 0x%08x, computed 0x%08x", crc_file, crc_calc);
+		return SW_CHECK_CRC;
+	}
+	/* Only a buggy writer gets past the CRC with these wrong. */
+	if (buf[OFF_STATUS] > 3 || buf[OFF_RSVD1] ||
+	    sw_get_le16(buf + OFF_RSVD2)) {
+		DETAIL("calibration status %u or a reserved byte out of range",
+		       buf[OFF_STATUS]);
+		return SW_CHECK_FIELD;
+	}
+	bad = sw_blob_nonfinite(buf + OFF_PAYLOAD);
+	if (bad) {
+		DETAIL("parameter %d (%s) is NaN or infinite", bad,
+		       sw_param_name(bad));
+		return SW_CHECK_NONFINITE;
+	}
+	if (f) {
+		f->chip.product_id = buf[OFF_PRODUCT];
+		f->chip.revision_id = buf[OFF_REVISION];
+		f->chip.rom_version = sw_get_le16(buf + OFF_ROM);
+		f->chip.ram_version = sw_get_le16(buf + OFF_RAM);
+		f->cal_status = buf[OFF_STATUS];
+		f->score_raw = sw_get_le16(buf + OFF_SCORE);
+		f->saved_at = sw_get_le64(buf + OFF_TIME);
+		memcpy(f->payload, buf + OFF_PAYLOAD, SW_BLOB_SIZE);
+	}
+	DETAIL("valid");
+	return SW_CHECK_OK;
+}
+
+enum sw_file_check sw_file_match_chip(const struct sw_file *f,
+				      const struct sw_chip_info *chip,
+				      char *detail, size_t detail_len)
+{
+	if (f->chip.product_id != chip->product_id) {
+		DETAIL("file 0x%02x, chip 0x%02x", f->chip.product_id,
+		       chip->product_id);
+		return SW_CHECK_PRODUCT;
+	}
+	if (f->chip.rom_version != chip->rom_version) {
+		DETAIL("file 0x%04x, chip 0x%04x", f->chip.rom_version,
+		       chip->rom_version);
+		return SW_CHECK_ROM;
+	}
+	if (f->chip.ram_version != chip->ram_version) {
+		DETAIL("file 0x%04x, chip 0x%04x", f->chip.ram_version,
+		       chip->ram_version);
+		return SW_CHECK_RAM;
+	}
+	DETAIL("matches");
+	return SW_CHECK_OK;
+}
+
+/*
+ * The seed's coefficient table (it lists 21 twice; the 35 names below
+ * follow its numbering groups: 2 xstates, 6 gparams, 9 nparams,
+ * 6 mcoeffs, 6 acoeffs, 6 gcoeffs).
+ */
+static const char *const param_names[SW_NPARAMS + 1] = {
+	NULL,
+	"xstates[1]", "xstates[2]",
+	"gparams[1]", "gparams[2]", "gparams[3]", "gparams[4]",
+	"gparams[5]", "gparams[6]",
+	"nparams[1]", "nparams[2]", "nparams[3]", "nparams[4]",
+	"nparams[5]", "nparams[6]", "nparams[7]", "nparams[8]",
+	"nparams[9]",
+	"mcoeffs[1]", "mcoeffs[2]", "mcoeffs[3]", "mcoeffs[4]",
+	"mcoeffs[5]", "mcoeffs[6]",
+	"acoeffs[1]", "acoeffs[2]", "acoeffs[3]",
+	"acoeffs[4]", "acoeffs[5]", "acoeffs[6]",
+	"gcoeffs[1]", "gcoeffs[2]", "gcoeffs[3]",
+	"gcoeffs[4]", "gcoeffs[5]", "gcoeffs[6]",
+};
+
+const char *sw_param_name(int n)
+{
+	if (n < 1 || n > SW_NPARAMS)
+		return "?";
+	return param_names[n];
+}
+
+int sw_file_read(const char *path, bool nofollow, uint8_t *buf,
+		 size_t *len, int *errno_out, struct sw_err *e)
+{
+	int flags = O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK;
+	struct stat st;
+	size_t got = 0;
+	ssize_t n;
+	int fd;
+
+	if (errno_out)
+		*errno_out = 0;
+	if (nofollow)
+		flags |= O_NOFOLLOW;
+	fd = open(path, flags);
+	if (fd < 0) {
+		int err = errno;
+
+		if (errno_out)
+			*errno_out = err;
+		if (err == ELOOP)
+			return sw_err_set(e, SW_EXIT_FILE,
+					  "%s: is a symbolic link; refusing to follow it",
+					  path);
+		if (err == ENOENT)
+			return sw_err_set(e, SW_EXIT_FILE,
+					  "%s: no saved calibration (file does not exist)",
+					  path);
+		return sw_err_set(e, SW_EXIT_IO, "%s: %s", path, strerror(err));
+	}
+	if (fstat(fd, &st) < 0 || !S_ISREG(st.st_mode)) {
+		close(fd);
+		return sw_err_set(e, SW_EXIT_FILE, "%s: not a regular file",
+				  path);
+	}
+	/* Read one byte more than allowed to notice an oversized file. */
+	while (got < SW_FILE_MAX_READ + 1) {
+		n = read(fd, buf + got, SW_FILE_MAX_READ + 1 - got);
+		if (n < 0 && errno == EINTR)
+			continue;
+		if (n < 0) {
+			int err = errno;
+
+			close(fd);
+			return sw_err_set(e, SW_EXIT_IO, "%s: read: %s", path,
+					  strerror(err));
+		}
+		if (n == 0)
+			break;
+		got += (size_t)n;
+	}
+	close(fd);
+	*len = got;
+	return SW_EXIT_OK;
+}
+
+static int write_all(int fd, const uint8_t *buf, size_t len)
+{
+	while (len) {
+		ssize_t n = write(fd, buf, len);
+
+		if (n < 0 && errno == EINTR)
+			continue;
+		if (n < 0)
+			return -1;
+		buf += n;
+		len -= (size_t)n;
+	}
+	return 0;
+}
+
+static int open_state_dir(const char *dir, struct sw_err *e)
+{
+	struct stat st;
+	int dfd;
+
+	/* Only the last component is created: /var/lib must already exist. */
+	if (mkdir(dir, 0700) < 0 && errno != EEXIST)
+		return -sw_err_set(e, SW_EXIT_IO, "%s: cannot create directory: %s",
+				   dir, strerror(errno));
+	dfd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+	if (dfd < 0) {
+		if (errno == ELOOP || errno == ENOTDIR)
+			return -sw_err_set(e, SW_EXIT_FILE,
+					   "%s: not a directory or a symbolic link; refusing to write through it",
+					   dir);
+		return -sw_err_set(e, SW_EXIT_IO, "%s: %s", dir,
+				   strerror(errno));
+	}
+	/* Saved calibrations are root's business alone. */
+	if (fstat(dfd, &st) == 0 && (st.st_mode & 077) &&
+	    st.st_uid == geteuid() && fchmod(dfd, 0700) < 0) {
+		close(dfd);
+		return -sw_err_set(e, SW_EXIT_IO, "%s: chmod 0700: %s", dir,
+				   strerror(errno));
+	}
+	return dfd;
+}
+
+int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
+			 struct sw_err *e)
+{
+	char dir[4096], tmp[300];
+	const char *base, *slash;
+	struct stat st;
+	int dfd, fd = -1, i, err;
+
+	slash = strrchr(path, '/');
+	if (slash) {
+		size_t dlen = slash == path ? 1 : (size_t)(slash - path);
+
+		if (dlen >= sizeof(dir))
+			return sw_err_set(e, SW_EXIT_USAGE, "%s: path too long",
+					  path);
+		memcpy(dir, path, dlen);
+		dir[dlen] = '\0';
+		base = slash + 1;
+	} else {
+		strcpy(dir, ".");
+		base = path;
+	}
+	if (!*base || strlen(base) > 200 || !strcmp(base, ".") ||
+	    !strcmp(base, ".."))
+		return sw_err_set(e, SW_EXIT_USAGE, "%s: not a file name", path);
+
+	dfd = open_state_dir(dir, e);
+	if (dfd < 0)
+		return -dfd;
+
+	if (fstatat(dfd, base, &st, AT_SYMLINK_NOFOLLOW) == 0) {
+		if (S_ISLNK(st.st_mode)) {
+			close(dfd);
+			return sw_err_set(e, SW_EXIT_FILE,
+					  "%s: is a symbolic link; refusing to replace it",
+					  path);
+		}
+		if (!S_ISREG(st.st_mode)) {
+			close(dfd);
+			return sw_err_set(e, SW_EXIT_FILE,
+					  "%s: exists and is not a regular file",
+					  path);
+		}
+	}
+
+	for (i = 0; i < 100 && fd < 0; i++) {
+		uint32_t rnd = 0;
+
+		if (getrandom(&rnd, sizeof(rnd), GRND_NONBLOCK) < 0)
+			rnd = (uint32_t)getpid() * 2654435761u + (uint32_t)i;
+		snprintf(tmp, sizeof(tmp), ".%s.%08x.tmp", base, rnd);
+		fd = openat(dfd, tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW |
+			    O_CLOEXEC, 0600);
+		if (fd < 0 && errno != EEXIST)
+			break;
+	}
+	if (fd < 0) {
+		err = errno;
+		close(dfd);
+		return sw_err_set(e, SW_EXIT_IO, "%s: cannot create a temporary file: %s",
+				  dir, strerror(err));
+	}
+	/* umask can only remove bits; make 0600 explicit anyway. */
+	if (fchmod(fd, 0600) < 0 || write_all(fd, buf, len) < 0 ||
+	    fsync(fd) < 0) {
+		err = errno;
+		goto fail;
+	}
+	if (close(fd) < 0) {
+		fd = -1;
+		err = errno;
+		goto fail;
+	}
+	fd = -1;
+	if (renameat(dfd, tmp, dfd, base) < 0) {
+		err = errno;
+		goto fail;
+	}
+	/* The rename is durable only once the directory is on disk too. */
+	if (fsync(dfd) < 0) {
+		err = errno;
+		close(dfd);
+		return sw_err_set(e, SW_EXIT_IO, "%s: fsync: %s", dir,
+				  strerror(err));
+	}
+	close(dfd);
+	return SW_EXIT_OK;
+
+fail:
+	if (fd >= 0)
+		close(fd);
+	unlinkat(dfd, tmp, 0);
+	close(dfd);
+	return sw_err_set(e, SW_EXIT_IO, "%s: write failed: %s", path,
+			  strerror(err));
+}

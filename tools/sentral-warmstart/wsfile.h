@@ -1,0 +1,109 @@
+/* SPDX-License-Identifier: GPL-2.0-only */
+/*
+ * sentral-warmstart: the saved-file format ("SNTRLWS1", version 1).
+ *
+ * All fields little-endian; the byte layout is documented in
+ * sentral-warmstart.8 (FILE FORMAT) and must match it:
+ *
+ *   off size field
+ *     0    8 magic "SNTRLWS1"
+ *     8    2 format version (1)
+ *    10    1 ProductID (reg 0x90)
+ *    11    1 RevisionID (reg 0x91)
+ *    12    2 ROM version (regs 0x70-0x71)
+ *    14    2 RAM version (regs 0x72-0x73)
+ *    16    1 calibration status at save time (0..3)
+ *    17    1 reserved, 0
+ *    18    2 raw calibration score at save time (0x4D | 0x4E << 8)
+ *    20    8 save time, seconds since the Unix epoch
+ *    28    2 payload size (140)
+ *    30    2 reserved, 0
+ *    32  140 payload: warm-start parameters 1..35, float32 each
+ *   172    4 CRC-32 (zlib/IEEE 802.3) of bytes 0..171
+ *   176      end of file
+ */
+#ifndef SW_WSFILE_H
+#define SW_WSFILE_H
+
+#include "sw.h"
+
+#define SW_FILE_MAGIC "SNTRLWS1"
+#define SW_FILE_VERSION 1
+#define SW_FILE_HDR_SIZE 32
+#define SW_FILE_SIZE (SW_FILE_HDR_SIZE + SW_BLOB_SIZE + 4)
+/* Anything larger is not one of ours; do not read it into memory. */
+#define SW_FILE_MAX_READ 4096
+
+struct sw_file {
+	struct sw_chip_info chip;
+	int cal_status;
+	uint16_t score_raw;
+	uint64_t saved_at;
+	uint8_t payload[SW_BLOB_SIZE];
+};
+
+/* The checks, each with a stable name used in messages and tests. */
+enum sw_file_check {
+	SW_CHECK_OK = 0,
+	SW_CHECK_TRUNCATED,
+	SW_CHECK_MAGIC,
+	SW_CHECK_VERSION,
+	SW_CHECK_PAYLOAD_SIZE,
+	SW_CHECK_TRAILING,
+	SW_CHECK_CRC,
+	SW_CHECK_FIELD,
+	SW_CHECK_NONFINITE,
+	SW_CHECK_PRODUCT,
+	SW_CHECK_ROM,
+	SW_CHECK_RAM,
+};
+
+const char *sw_check_name(enum sw_file_check c);
+
+/* Encode into buf (at least SW_FILE_SIZE bytes); returns SW_FILE_SIZE. */
+size_t sw_file_encode(const struct sw_file *f, uint8_t *buf);
+
+/*
+ * Decode and validate the file's own consistency (no chip involved).
+ * On failure returns the failed check and describes it in detail
+ * (detail may be NULL).
+ */
+enum sw_file_check sw_file_decode(const uint8_t *buf, size_t len,
+				  struct sw_file *f, char *detail,
+				  size_t detail_len);
+
+/* Index of the first non-finite parameter (1-based), 0 when all finite. */
+int sw_blob_nonfinite(const uint8_t *blob);
+
+/*
+ * Compare a decoded file with the chip: ProductID, ROM and RAM version.
+ * RevisionID is reported by `show` but not enforced.
+ */
+enum sw_file_check sw_file_match_chip(const struct sw_file *f,
+				      const struct sw_chip_info *chip,
+				      char *detail, size_t detail_len);
+
+/* Name of warm-start parameter n (1..35), from the seed's table. */
+const char *sw_param_name(int n);
+
+/*
+ * Read a whole file of at most SW_FILE_MAX_READ bytes. With nofollow the
+ * last path component must not be a symlink. Returns SW_EXIT_OK, or
+ * SW_EXIT_FILE with e->msg set (errno_out = ENOENT when it is missing),
+ * or SW_EXIT_IO.
+ */
+int sw_file_read(const char *path, bool nofollow, uint8_t *buf,
+		 size_t *len, int *errno_out, struct sw_err *e);
+
+/*
+ * Atomically replace path with buf: temp file in the same directory
+ * (mode 0600, O_EXCL|O_NOFOLLOW), write, fsync, rename, fsync the
+ * directory. The directory is created 0700 when missing (its parent must
+ * exist) and must not be a symlink; an existing target that is a symlink
+ * or not a regular file is refused. No partial file is ever visible at
+ * path; the temp file is removed on every error.
+ */
+int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
+			 struct sw_err *e);
+
+#endif
