@@ -245,6 +245,10 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 				b->name, path);
 			return SW_EXIT_OK;
 		}
+		if (err == ENOENT)
+			return sw_err_set(e, SW_EXIT_FILE,
+					  "no saved calibration for %s: %s does not exist",
+					  b->name, path);
 		return sw_err_set(e, rerr.code, "%s", rerr.msg);
 	}
 	c = sw_file_decode(buf, len, &f, detail, sizeof(detail));

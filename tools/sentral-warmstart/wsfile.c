@@ -247,7 +247,7 @@ int sw_file_read(const char *path, bool nofollow, uint8_t *buf,
 					  path);
 		if (err == ENOENT)
 			return sw_err_set(e, SW_EXIT_FILE,
-					  "%s: no saved calibration (file does not exist)",
+					  "%s: file does not exist",
 					  path);
 		return sw_err_set(e, SW_EXIT_IO, "%s: %s", path, strerror(err));
 	}
