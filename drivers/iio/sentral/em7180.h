@@ -1,0 +1,168 @@
+/* SPDX-License-Identifier: GPL-2.0-only */
+/*
+ * PNI SENtral / EM Microelectronic EM7180 sensor-fusion hub
+ *
+ * Register and protocol facts follow the EM7180 register reference §1-§3,
+ * which collects them from the EM Microelectronic generic host driver and
+ * the Sony em718x driver, and the PNI warm start application note.
+ */
+#ifndef _EM7180_H_
+#define _EM7180_H_
+
+#include <linux/bits.h>
+#include <linux/iio/iio.h>
+#include <linux/mutex.h>
+#include <linux/pm.h>
+#include <linux/regmap.h>
+#include <linux/types.h>
+
+#define EM7180_REG_QX			0x00	/* float32 x, y, z, w */
+#define EM7180_REG_MX			0x12
+#define EM7180_REG_AX			0x1A
+#define EM7180_REG_GX			0x22
+#define EM7180_REG_DATA_END		0x31
+#define EM7180_REG_QRATE_DIVISOR	0x32
+#define EM7180_REG_ENABLE_EVENTS	0x33
+#define EM7180_REG_HOST_CTRL		0x34
+#define EM7180_REG_EVENT_STATUS		0x35	/* clear on read */
+#define EM7180_REG_SENTRAL_STATUS	0x37
+#define EM7180_REG_ALGO_STATUS		0x38
+#define EM7180_REG_PARAM_ACK		0x3A
+#define EM7180_REG_SAVED_PARAM		0x3B	/* 0x3B..0x3E, u32 LE */
+#define EM7180_REG_CAL_STATUS		0x43
+#define EM7180_REG_CAL_FLAGS		0x44
+#define EM7180_REG_ACTUAL_MAG_RATE	0x45
+#define EM7180_REG_ACTUAL_ACCEL_RATE	0x46
+#define EM7180_REG_ACTUAL_GYRO_RATE	0x47
+#define EM7180_REG_CAL_SCORE		0x4D	/* 0x4D..0x4E, u16 LE */
+#define EM7180_REG_ERROR		0x50
+#define EM7180_REG_ALGO_CTRL		0x54
+#define EM7180_REG_MAG_RATE		0x55
+#define EM7180_REG_ACCEL_RATE		0x56
+#define EM7180_REG_GYRO_RATE		0x57
+#define EM7180_REG_LOAD_PARAM		0x60	/* 0x60..0x63, u32 LE */
+#define EM7180_REG_PARAM_REQ		0x64
+#define EM7180_REG_ROM_VERSION		0x70
+#define EM7180_REG_RAM_VERSION		0x72
+#define EM7180_REG_PRODUCT_ID		0x90
+#define EM7180_REG_REVISION_ID		0x91
+#define EM7180_REG_RUN_STATUS		0x92
+#define EM7180_REG_UPLOAD_ADDR		0x94
+#define EM7180_REG_UPLOAD_DATA		0x96
+#define EM7180_REG_CRC_HOST		0x97
+#define EM7180_REG_RESET_REQ		0x9B
+#define EM7180_REG_PASSTHRU_STATUS	0x9E
+#define EM7180_REG_SCL_LOW_CYCLES	0x9F
+#define EM7180_REG_PASSTHRU_CTRL	0xA0
+#define EM7180_REG_MAX			EM7180_REG_PASSTHRU_CTRL
+
+#define EM7180_PRODUCT_ID		0x80
+#define EM7180_REVISION_ID		0x02
+
+#define EM7180_HOST_CTRL_RUN		BIT(0)
+
+#define EM7180_EVENT_CPU_RESET		BIT(0)
+#define EM7180_EVENT_ERROR		BIT(1)
+#define EM7180_EVENT_QUAT		BIT(2)
+#define EM7180_EVENT_MAG		BIT(3)
+#define EM7180_EVENT_ACCEL		BIT(4)
+#define EM7180_EVENT_GYRO		BIT(5)
+#define EM7180_EVENT_DATA		GENMASK(5, 2)
+
+#define EM7180_SENTRAL_EEPROM		BIT(0)
+#define EM7180_SENTRAL_UPLOAD_DONE	BIT(1)
+#define EM7180_SENTRAL_UPLOAD_ERR	BIT(2)
+#define EM7180_SENTRAL_STANDBY		BIT(3)
+#define EM7180_SENTRAL_NO_EEPROM	BIT(4)
+
+#define EM7180_ALGO_STATUS_HALTED	BIT(0)
+
+#define EM7180_ALGO_CTRL_STANDBY	BIT(0)
+#define EM7180_ALGO_CTRL_PARAM_XFER	BIT(7)
+
+#define EM7180_RESET_REQ_RESET		BIT(0)
+
+#define EM7180_CAL_STATUS_MASK		GENMASK(1, 0)
+#define EM7180_CAL_MAG_TRANSIENT_MASK	GENMASK(3, 2)
+#define EM7180_CAL_FLAG_MAG_UPDATE	BIT(0)
+#define EM7180_CAL_FLAG_GBIAS_UPDATE	BIT(1)
+
+#define EM7180_PARAM_WRITE		BIT(7)
+#define EM7180_PARAM_MAX		127
+
+/* Warm start: parameters 1..35, accel offsets (float g) in 27..29 */
+#define EM7180_WS_FIRST_PARAM		1
+#define EM7180_WS_NUM_PARAMS		35
+#define EM7180_WS_SIZE			(EM7180_WS_NUM_PARAMS * 4)
+#define EM7180_ACCEL_OFFSET_PARAM	27
+
+enum em7180_scan {
+	EM7180_SCAN_QUAT,
+	EM7180_SCAN_MAGN_X,
+	EM7180_SCAN_MAGN_Y,
+	EM7180_SCAN_MAGN_Z,
+	EM7180_SCAN_ACCEL_X,
+	EM7180_SCAN_ACCEL_Y,
+	EM7180_SCAN_ACCEL_Z,
+	EM7180_SCAN_ANGLVEL_X,
+	EM7180_SCAN_ANGLVEL_Y,
+	EM7180_SCAN_ANGLVEL_Z,
+	EM7180_SCAN_TIMESTAMP,
+};
+
+/* One burst covers quaternion, magnetometer, accelerometer and gyroscope */
+#define EM7180_BURST_LEN		(EM7180_REG_GX + 6 - EM7180_REG_QX)
+
+struct iio_trigger;
+
+/**
+ * struct em7180_data - driver state
+ * @dev: parent (bus) device
+ * @regmap: register map of the chip
+ * @trig: data-ready trigger, NULL without an interrupt line
+ * @lock: serialises every chip access and the fields below
+ * @ack_wait_us: wait before the first ParamAcknowledge poll, learned
+ * @ack_good_us: longest wait known to have been enough recently
+ * @ws_valid: @ws holds the last warm start written or read
+ * @ws: warm start to re-apply when the chip lost power during suspend
+ * @orientation: mount matrix from firmware
+ * @timestamp: time of the last data-ready interrupt
+ * @burst: raw sensor registers of one scan
+ * @scan: packed scan pushed to the buffer, timestamp included
+ */
+struct em7180_data {
+	struct device *dev;
+	struct regmap *regmap;
+	struct iio_trigger *trig;
+	struct mutex lock;	/* chip access, ack estimate, warm start copy */
+	unsigned int ack_wait_us;
+	unsigned int ack_good_us;
+	bool ws_valid;
+	u8 ws[EM7180_WS_SIZE];
+	struct iio_mount_matrix orientation;
+	s64 timestamp;
+	u8 burst[EM7180_BURST_LEN];
+	u8 scan[48] __aligned(8);
+};
+
+extern const struct regmap_config em7180_regmap_config;
+extern const struct dev_pm_ops em7180_pm_ops;
+
+int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq);
+
+void em7180_param_init(struct em7180_data *data);
+int em7180_params_read(struct em7180_data *data, unsigned int first,
+		       unsigned int count, u32 *vals);
+int em7180_params_write(struct em7180_data *data, unsigned int first,
+			unsigned int count, const u32 *vals);
+
+bool em7180_float_is_finite(u32 bits);
+u32 em7180_lsb_to_float_g(int lsb);
+int em7180_float_g_to_lsb(u32 bits, int *lsb);
+s32 em7180_float_to_q30(u32 bits);
+
+int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
+			   bool write);
+int em7180_format_score(char *buf, size_t size, u16 raw);
+
+#endif /* _EM7180_H_ */

@@ -1,0 +1,596 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * KUnit tests for the EM7180 driver: parameter transfer against an emulated
+ * register map on a custom regmap bus (exact bus sequences, batches,
+ * acknowledge latency, timeouts, bus errors), float conversions, the
+ * calibration score format and warm start blob validation.
+ */
+
+#include <kunit/test.h>
+#include <linux/device.h>
+#include <linux/errno.h>
+#include <linux/ktime.h>
+#include <linux/limits.h>
+#include <linux/module.h>
+#include <linux/mutex.h>
+#include <linux/regmap.h>
+#include <linux/string.h>
+
+#include "em7180.h"
+#include "em7180_compat.h"
+
+#define EMU_LOG_MAX		256
+
+struct emu_xfer {
+	bool write;
+	u8 reg;
+	u8 len;
+	u8 data[8];
+};
+
+/* Just enough of the chip for the parameter procedure (reference §2) */
+struct em7180_emu {
+	u8 regs[256];
+	u32 params[EM7180_PARAM_MAX + 1];
+	struct emu_xfer log[EMU_LOG_MAX];
+	unsigned int n_log;
+	unsigned int transactions;
+	unsigned int nack_at;		/* fail this transaction (1-based) */
+	bool ack_never;
+	unsigned int ack_latency_us;
+	bool pending;
+	ktime_t req_time;
+};
+
+struct em7180_test {
+	struct device *dev;
+	struct em7180_emu emu;
+	struct em7180_data data;
+};
+
+static void emu_log(struct em7180_emu *emu, bool write, u8 reg,
+		    const u8 *data, size_t len)
+{
+	struct emu_xfer *x;
+
+	if (emu->n_log >= EMU_LOG_MAX)
+		return;
+	x = &emu->log[emu->n_log++];
+	x->write = write;
+	x->reg = reg;
+	x->len = len;
+	if (data)
+		memcpy(x->data, data, min(len, sizeof(x->data)));
+}
+
+/* A request is served while AlgorithmControl bit 7 is set */
+static void emu_request(struct em7180_emu *emu)
+{
+	if ((emu->regs[EM7180_REG_ALGO_CTRL] & EM7180_ALGO_CTRL_PARAM_XFER) &&
+	    emu->regs[EM7180_REG_PARAM_REQ]) {
+		emu->pending = true;
+		emu->req_time = ktime_get();
+	} else if (!emu->regs[EM7180_REG_PARAM_REQ]) {
+		emu->pending = false;
+		emu->regs[EM7180_REG_PARAM_ACK] = 0;
+	}
+}
+
+static void emu_serve(struct em7180_emu *emu)
+{
+	u8 req = emu->regs[EM7180_REG_PARAM_REQ];
+	u8 n = req & ~EM7180_PARAM_WRITE;
+
+	if (!emu->pending || emu->ack_never ||
+	    ktime_us_delta(ktime_get(), emu->req_time) < emu->ack_latency_us)
+		return;
+
+	if (req & EM7180_PARAM_WRITE)
+		emu->params[n] = get_unaligned_le32(&emu->regs[EM7180_REG_LOAD_PARAM]);
+	else
+		put_unaligned_le32(emu->params[n],
+				   &emu->regs[EM7180_REG_SAVED_PARAM]);
+	emu->regs[EM7180_REG_PARAM_ACK] = req;
+	emu->pending = false;
+}
+
+static int emu_write(void *context, const void *buf, size_t count)
+{
+	struct em7180_emu *emu = context;
+	const u8 *b = buf;
+	unsigned int i;
+
+	if (++emu->transactions == emu->nack_at)
+		return -EIO;
+
+	emu_log(emu, true, b[0], b + 1, count - 1);
+	for (i = 1; i < count; i++)
+		emu->regs[(u8)(b[0] + i - 1)] = b[i];
+	if (b[0] <= EM7180_REG_PARAM_REQ && b[0] + count - 1 > EM7180_REG_PARAM_REQ)
+		emu_request(emu);
+	else if (b[0] == EM7180_REG_ALGO_CTRL)
+		emu_request(emu);
+
+	return 0;
+}
+
+static int emu_read(void *context, const void *reg_buf, size_t reg_size,
+		    void *val_buf, size_t val_size)
+{
+	struct em7180_emu *emu = context;
+	u8 reg = *(const u8 *)reg_buf;
+	unsigned int i;
+
+	if (++emu->transactions == emu->nack_at)
+		return -EIO;
+
+	emu_serve(emu);
+	for (i = 0; i < val_size; i++)
+		((u8 *)val_buf)[i] = emu->regs[(u8)(reg + i)];
+	emu_log(emu, false, reg, val_buf, val_size);
+
+	return 0;
+}
+
+static const struct regmap_bus emu_bus = {
+	.write = emu_write,
+	.read = emu_read,
+};
+
+static int em7180_test_init(struct kunit *test)
+{
+	struct em7180_test *t;
+	struct regmap *map;
+
+	t = kunit_kzalloc(test, sizeof(*t), GFP_KERNEL);
+	KUNIT_ASSERT_NOT_NULL(test, t);
+
+	t->dev = root_device_register("em7180-kunit");
+	KUNIT_ASSERT_FALSE(test, IS_ERR(t->dev));
+
+	map = regmap_init(t->dev, &emu_bus, &t->emu, &em7180_regmap_config);
+	if (IS_ERR(map)) {
+		root_device_unregister(t->dev);
+		KUNIT_FAIL(test, "regmap_init: %ld", PTR_ERR(map));
+		return PTR_ERR(map);
+	}
+
+	t->data.dev = t->dev;
+	t->data.regmap = map;
+	mutex_init(&t->data.lock);
+	em7180_param_init(&t->data);
+	test->priv = t;
+
+	return 0;
+}
+
+static void em7180_test_exit(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+
+	regmap_exit(t->data.regmap);
+	root_device_unregister(t->dev);
+}
+
+static void expect_xfer(struct kunit *test, const struct em7180_emu *emu,
+			unsigned int i, bool write, u8 reg, const u8 *data,
+			u8 len)
+{
+	const struct emu_xfer *x = &emu->log[i];
+
+	KUNIT_ASSERT_LT(test, i, emu->n_log);
+	KUNIT_EXPECT_EQ_MSG(test, x->write, write, "transaction %u", i);
+	KUNIT_EXPECT_EQ_MSG(test, x->reg, reg, "transaction %u", i);
+	KUNIT_EXPECT_EQ_MSG(test, x->len, len, "transaction %u", i);
+	if (write && data)
+		KUNIT_EXPECT_TRUE_MSG(test, !memcmp(x->data, data, len),
+				      "transaction %u: %*ph", i, len, x->data);
+}
+
+/* The two writes every transfer must end with, error or not */
+static void expect_ended(struct kunit *test, const struct em7180_emu *emu)
+{
+	static const u8 zero;
+
+	KUNIT_ASSERT_GE(test, emu->n_log, 2U);
+	expect_xfer(test, emu, emu->n_log - 2, true, EM7180_REG_PARAM_REQ,
+		    &zero, 1);
+	expect_xfer(test, emu, emu->n_log - 1, true, EM7180_REG_ALGO_CTRL,
+		    &zero, 1);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_PARAM_REQ], 0);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
+}
+
+static int test_params_read(struct em7180_test *t, unsigned int first,
+			    unsigned int count, u32 *vals)
+{
+	int ret;
+
+	mutex_lock(&t->data.lock);
+	ret = em7180_params_read(&t->data, first, count, vals);
+	mutex_unlock(&t->data.lock);
+
+	return ret;
+}
+
+static int test_params_write(struct em7180_test *t, unsigned int first,
+			     unsigned int count, const u32 *vals)
+{
+	int ret;
+
+	mutex_lock(&t->data.lock);
+	ret = em7180_params_write(&t->data, first, count, vals);
+	mutex_unlock(&t->data.lock);
+
+	return ret;
+}
+
+static void em7180_test_param_read_sequence(struct kunit *test)
+{
+	static const u8 start = EM7180_ALGO_CTRL_PARAM_XFER, req = 5;
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 val = 0;
+
+	emu->params[5] = 0x12345678;
+
+	KUNIT_ASSERT_EQ(test, test_params_read(t, 5, 1, &val), 0);
+	KUNIT_EXPECT_EQ(test, val, 0x12345678U);
+
+	KUNIT_ASSERT_EQ(test, emu->n_log, 5U);
+	expect_xfer(test, emu, 0, true, EM7180_REG_ALGO_CTRL, &start, 1);
+	expect_xfer(test, emu, 1, true, EM7180_REG_PARAM_REQ, &req, 1);
+	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL, 5);
+	expect_ended(test, emu);
+}
+
+static void em7180_test_param_write_sequence(struct kunit *test)
+{
+	static const u8 start = EM7180_ALGO_CTRL_PARAM_XFER;
+	/* Table 1: -0.022936 g = BC BB E4 47, sent least significant first */
+	static const u8 burst[] = { 0x47, 0xE4, 0xBB, 0xBC, 27 | 0x80 };
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 val = 0xBCBBE447;
+
+	KUNIT_ASSERT_EQ(test, test_params_write(t, 27, 1, &val), 0);
+	KUNIT_EXPECT_EQ(test, emu->params[27], 0xBCBBE447U);
+
+	KUNIT_ASSERT_EQ(test, emu->n_log, 5U);
+	expect_xfer(test, emu, 0, true, EM7180_REG_ALGO_CTRL, &start, 1);
+	expect_xfer(test, emu, 1, true, EM7180_REG_LOAD_PARAM, burst, 5);
+	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL, 5);
+	expect_ended(test, emu);
+}
+
+static void em7180_test_param_batch(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 in[EM7180_WS_NUM_PARAMS], out[EM7180_WS_NUM_PARAMS];
+	u8 burst[5];
+	unsigned int i;
+
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		in[i] = 0x3F800000 + i;
+
+	KUNIT_ASSERT_EQ(test, test_params_write(t, 1, EM7180_WS_NUM_PARAMS, in), 0);
+	KUNIT_EXPECT_EQ(test, emu->transactions, 2 * EM7180_WS_NUM_PARAMS + 3);
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++) {
+		put_unaligned_le32(in[i], burst);
+		burst[4] = (i + 1) | EM7180_PARAM_WRITE;
+		expect_xfer(test, emu, 1 + 2 * i, true, EM7180_REG_LOAD_PARAM,
+			    burst, 5);
+		expect_xfer(test, emu, 2 + 2 * i, false, EM7180_REG_PARAM_ACK,
+			    NULL, 5);
+		KUNIT_EXPECT_EQ(test, emu->params[i + 1], in[i]);
+	}
+	expect_ended(test, emu);
+
+	emu->n_log = 0;
+	emu->transactions = 0;
+	KUNIT_ASSERT_EQ(test, test_params_read(t, 1, EM7180_WS_NUM_PARAMS, out), 0);
+	KUNIT_EXPECT_EQ(test, emu->transactions, 2 * EM7180_WS_NUM_PARAMS + 3);
+	KUNIT_EXPECT_TRUE(test, !memcmp(out, in, sizeof(in)));
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++) {
+		burst[0] = i + 1;
+		expect_xfer(test, emu, 1 + 2 * i, true, EM7180_REG_PARAM_REQ,
+			    burst, 1);
+	}
+	expect_ended(test, emu);
+}
+
+/*
+ * With a firmware latency the driver must find it within the batch and
+ * stay within 2 transactions per parameter + 4, batch after batch.
+ */
+static void em7180_test_param_latency(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	unsigned int round;
+
+	emu->ack_latency_us = 500;
+	for (round = 0; round < 2; round++) {
+		emu->transactions = 0;
+		KUNIT_ASSERT_EQ(test, test_params_read(t, 1, EM7180_WS_NUM_PARAMS,
+						       vals), 0);
+		KUNIT_EXPECT_LE(test, emu->transactions,
+				2 * EM7180_WS_NUM_PARAMS + 4);
+		emu->transactions = 0;
+		KUNIT_ASSERT_EQ(test, test_params_write(t, 1, EM7180_WS_NUM_PARAMS,
+							vals), 0);
+		KUNIT_EXPECT_LE(test, emu->transactions,
+				2 * EM7180_WS_NUM_PARAMS + 4);
+	}
+	KUNIT_EXPECT_GE(test, t->data.ack_good_us, 1U);
+}
+
+static void em7180_test_param_slow_ack(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 val;
+
+	emu->params[3] = 42;
+	emu->ack_latency_us = 20000;
+	KUNIT_ASSERT_EQ(test, test_params_read(t, 3, 1, &val), 0);
+	KUNIT_EXPECT_EQ(test, val, 42U);
+	expect_ended(test, emu);
+}
+
+static void em7180_test_param_timeout(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 val = 0;
+
+	emu->ack_never = true;
+	KUNIT_EXPECT_EQ(test, test_params_write(t, 28, 1, &val), -ETIMEDOUT);
+	expect_ended(test, emu);
+
+	/* The next transfer works */
+	emu->ack_never = false;
+	emu->params[28] = 7;
+	KUNIT_EXPECT_EQ(test, test_params_read(t, 28, 1, &val), 0);
+	KUNIT_EXPECT_EQ(test, val, 7U);
+}
+
+/* A bus error at every transaction of a 3-parameter write, in turn */
+static void em7180_test_param_nack(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	static const u32 vals[] = { 1, 2, 3 };
+	unsigned int n, clean;
+	u32 back[3];
+	int ret;
+
+	KUNIT_ASSERT_EQ(test, test_params_write(t, 27, 3, vals), 0);
+	clean = emu->transactions;
+	KUNIT_ASSERT_EQ(test, clean, 9U);
+
+	for (n = 1; n <= clean; n++) {
+		emu->transactions = 0;
+		emu->n_log = 0;
+		emu->nack_at = n;
+		ret = test_params_write(t, 27, 3, vals);
+		/* A failed end is retried, so a NACK there is recovered */
+		if (n >= clean - 1)
+			KUNIT_EXPECT_EQ_MSG(test, ret, 0, "NACK at %u", n);
+		else
+			KUNIT_EXPECT_EQ_MSG(test, ret, -EIO, "NACK at %u", n);
+		expect_ended(test, emu);
+
+		emu->nack_at = 0;
+		KUNIT_EXPECT_EQ(test, test_params_read(t, 27, 3, back), 0);
+		KUNIT_EXPECT_TRUE(test, !memcmp(back, vals, sizeof(vals)));
+	}
+}
+
+static void em7180_test_param_range(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	u32 val;
+
+	KUNIT_EXPECT_EQ(test, test_params_read(t, 0, 1, &val), -EINVAL);
+	KUNIT_EXPECT_EQ(test, test_params_read(t, 127, 2, &val), -EINVAL);
+	KUNIT_EXPECT_EQ(test, test_params_read(t, 1, 0, &val), -EINVAL);
+	KUNIT_EXPECT_EQ(test, t->emu.transactions, 0U);
+}
+
+static void em7180_test_float_table1(struct kunit *test)
+{
+	int lsb;
+
+	KUNIT_EXPECT_EQ(test, em7180_lsb_to_float_g(-47), 0xBCBBE447U);
+	KUNIT_EXPECT_EQ(test, em7180_lsb_to_float_g(-15), 0xBBEFDC9CU);
+	KUNIT_EXPECT_EQ(test, em7180_lsb_to_float_g(46), 0x3CB7E4DEU);
+
+	KUNIT_EXPECT_EQ(test, em7180_float_g_to_lsb(0xBCBBE447, &lsb), 0);
+	KUNIT_EXPECT_EQ(test, lsb, -47);
+	KUNIT_EXPECT_EQ(test, em7180_float_g_to_lsb(0xBBEFDC9C, &lsb), 0);
+	KUNIT_EXPECT_EQ(test, lsb, -15);
+	KUNIT_EXPECT_EQ(test, em7180_float_g_to_lsb(0x3CB7E4DE, &lsb), 0);
+	KUNIT_EXPECT_EQ(test, lsb, 46);
+}
+
+static void em7180_test_float_lsb(struct kunit *test)
+{
+	int lsb, back;
+
+	KUNIT_EXPECT_EQ(test, em7180_lsb_to_float_g(0), 0U);
+	KUNIT_EXPECT_EQ(test, em7180_lsb_to_float_g(1), 0x39FFDA40U);
+	KUNIT_EXPECT_EQ(test, em7180_lsb_to_float_g(-1), 0xB9FFDA40U);
+	KUNIT_EXPECT_EQ(test, em7180_lsb_to_float_g(S16_MAX), 0x417FD841U);
+	KUNIT_EXPECT_EQ(test, em7180_lsb_to_float_g(S16_MIN), 0xC17FDA40U);
+
+	for (lsb = S16_MIN; lsb <= S16_MAX; lsb++) {
+		back = lsb + 1;
+		if (em7180_float_g_to_lsb(em7180_lsb_to_float_g(lsb), &back) ||
+		    back != lsb) {
+			KUNIT_FAIL(test, "%d LSB came back as %d", lsb, back);
+			break;
+		}
+	}
+}
+
+static void em7180_test_float_rounding(struct kunit *test)
+{
+	static const struct {
+		u32 bits;
+		int lsb;
+	} cases[] = {
+		{ 0x397ECDD1, 0 },	/* 0.000243 g = 0.498 LSB */
+		{ 0x39807358, 1 },	/* 0.000245 g = 0.502 LSB */
+		{ 0xB9807358, -1 },
+		{ 0x3A3FE3B0, 1 },	/* 1.49999997 LSB */
+		{ 0x3A3FEA66, 2 },	/* 1.5002 LSB */
+		{ 0x3F800000, 2049 },	/* 1 g = 2049.18 LSB */
+		{ 0x80000000, 0 },	/* -0 */
+		{ 0x00000001, 0 },	/* smallest subnormal */
+	};
+	static const u32 bad[] = {
+		0x7FC00000, 0xFFC00000, 0x7F800001,	/* NaN */
+		0x7F800000, 0xFF800000,			/* +-Inf */
+		0x49000000, 0xC9000000,			/* +-2^19 g */
+	};
+	unsigned int i;
+	int lsb;
+
+	for (i = 0; i < ARRAY_SIZE(cases); i++) {
+		KUNIT_EXPECT_EQ(test, em7180_float_g_to_lsb(cases[i].bits, &lsb), 0);
+		KUNIT_EXPECT_EQ_MSG(test, lsb, cases[i].lsb, "0x%08x", cases[i].bits);
+	}
+	for (i = 0; i < ARRAY_SIZE(bad); i++)
+		KUNIT_EXPECT_EQ_MSG(test, em7180_float_g_to_lsb(bad[i], &lsb),
+				    -ERANGE, "0x%08x", bad[i]);
+}
+
+static void em7180_test_float_q30(struct kunit *test)
+{
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x3F800000), 1 << 30);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0xBF800000), -(1 << 30));
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x3F000000), 1 << 29);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x3F7FFFFF), (1 << 30) - 64);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x3F3504F3), 759250112);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x00000000), 0);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x80000000), 0);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x30000000), 1);	/* 2^-31 */
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x2F800000), 0);	/* 2^-32 */
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x40000000), S32_MAX);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0xFF800000), S32_MIN);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x7FC00000), 0);
+}
+
+static void em7180_test_score(struct kunit *test)
+{
+	static const struct {
+		u16 raw;
+		const char *text;
+	} cases[] = {
+		{ 0x0000, "-100.000\n" },
+		{ 0x8000, "0.000\n" },
+		{ 0xFFFF, "99.997\n" },
+		{ 0x83BC, "2.917\n" },
+		{ 0x7FFF, "-0.003\n" },
+		{ 0x8001, "0.003\n" },
+	};
+	unsigned int i;
+	char buf[16];
+
+	for (i = 0; i < ARRAY_SIZE(cases); i++) {
+		em7180_format_score(buf, sizeof(buf), cases[i].raw);
+		KUNIT_EXPECT_STREQ(test, buf, cases[i].text);
+	}
+}
+
+static void em7180_test_warmstart_check(struct kunit *test)
+{
+	static const u32 bad[] = {
+		0x7FC00000, 0xFFFFFFFF, 0x7F800001, 0x7F800000, 0xFF800000,
+	};
+	u8 *blob;
+	size_t size;
+	unsigned int i, p;
+
+	blob = kunit_kzalloc(test, 256, GFP_KERNEL);
+	KUNIT_ASSERT_NOT_NULL(test, blob);
+
+	for (size = 0; size <= 200; size++) {
+		int want = size == EM7180_WS_SIZE ? 0 : -EINVAL;
+
+		KUNIT_EXPECT_EQ_MSG(test, em7180_warmstart_check(blob, 0, size, true),
+				    want, "write of %zu bytes", size);
+		KUNIT_EXPECT_EQ_MSG(test, em7180_warmstart_check(NULL, 0, size, false),
+				    want, "read of %zu bytes", size);
+	}
+
+	for (p = 1; p <= EM7180_WS_SIZE; p += 19) {
+		KUNIT_EXPECT_EQ(test, em7180_warmstart_check(blob, p, EM7180_WS_SIZE, true),
+				-EINVAL);
+		KUNIT_EXPECT_EQ(test, em7180_warmstart_check(NULL, p, EM7180_WS_SIZE, false),
+				-EINVAL);
+	}
+
+	/* Largest finite, subnormal, -0 and 1.0 are all fine */
+	put_unaligned_le32(0x7F7FFFFF, &blob[0]);
+	put_unaligned_le32(0x00000001, &blob[4]);
+	put_unaligned_le32(0x80000000, &blob[8]);
+	put_unaligned_le32(0x3F800000, &blob[136]);
+	KUNIT_EXPECT_EQ(test, em7180_warmstart_check(blob, 0, EM7180_WS_SIZE, true), 0);
+
+	for (p = 0; p < EM7180_WS_NUM_PARAMS; p++) {
+		for (i = 0; i < ARRAY_SIZE(bad); i++) {
+			u32 old = get_unaligned_le32(&blob[4 * p]);
+
+			put_unaligned_le32(bad[i], &blob[4 * p]);
+			KUNIT_EXPECT_EQ_MSG(test,
+					    em7180_warmstart_check(blob, 0, EM7180_WS_SIZE, true),
+					    -EINVAL, "param %u = 0x%08x", p + 1, bad[i]);
+			put_unaligned_le32(old, &blob[4 * p]);
+		}
+	}
+}
+
+static struct kunit_case em7180_param_cases[] = {
+	KUNIT_CASE(em7180_test_param_read_sequence),
+	KUNIT_CASE(em7180_test_param_write_sequence),
+	KUNIT_CASE(em7180_test_param_batch),
+	KUNIT_CASE(em7180_test_param_latency),
+	KUNIT_CASE(em7180_test_param_slow_ack),
+	KUNIT_CASE(em7180_test_param_timeout),
+	KUNIT_CASE(em7180_test_param_nack),
+	KUNIT_CASE(em7180_test_param_range),
+	{ }
+};
+
+static struct kunit_suite em7180_param_suite = {
+	.name = "em7180_param",
+	.init = em7180_test_init,
+	.exit = em7180_test_exit,
+	.test_cases = em7180_param_cases,
+};
+
+static struct kunit_case em7180_format_cases[] = {
+	KUNIT_CASE(em7180_test_float_table1),
+	KUNIT_CASE(em7180_test_float_lsb),
+	KUNIT_CASE(em7180_test_float_rounding),
+	KUNIT_CASE(em7180_test_float_q30),
+	KUNIT_CASE(em7180_test_score),
+	KUNIT_CASE(em7180_test_warmstart_check),
+	{ }
+};
+
+static struct kunit_suite em7180_format_suite = {
+	.name = "em7180_format",
+	.test_cases = em7180_format_cases,
+};
+
+kunit_test_suites(&em7180_param_suite, &em7180_format_suite);
+
+MODULE_DESCRIPTION("KUnit tests for the EM7180 driver");
+MODULE_LICENSE("GPL");
+MODULE_IMPORT_NS(EXPORTED_FOR_KUNIT_TESTING);
+MODULE_IMPORT_NS(IIO_EM7180);

@@ -1,0 +1,1130 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * PNI SENtral / EM Microelectronic EM7180 sensor-fusion hub
+ *
+ * The hub runs its own fusion algorithm and presents scaled accelerometer,
+ * gyroscope and magnetometer data plus an orientation quaternion in a
+ * register map (EM7180 register reference §1). It learns a magnetometer
+ * calibration and a gyroscope bias while running; the 35 "warm start"
+ * parameters that hold them are exposed as one binary attribute so that
+ * userspace can save them and restore them at the next boot.
+ */
+
+#include <linux/bitfield.h>
+#include <linux/bitmap.h>
+#include <linux/bitops.h>
+#include <linux/delay.h>
+#include <linux/device.h>
+#include <linux/errno.h>
+#include <linux/interrupt.h>
+#include <linux/kernel.h>
+#include <linux/module.h>
+#include <linux/mutex.h>
+#include <linux/pm.h>
+#include <linux/property.h>
+#include <linux/regmap.h>
+#include <linux/regulator/consumer.h>
+#include <linux/sysfs.h>
+
+#include <linux/iio/buffer.h>
+#include <linux/iio/iio.h>
+#include <linux/iio/sysfs.h>
+#include <linux/iio/trigger.h>
+#include <linux/iio/trigger_consumer.h>
+#include <linux/iio/triggered_buffer.h>
+
+#include <kunit/visibility.h>
+
+#include "em7180.h"
+#include "em7180_compat.h"
+
+/* EM7180 register reference §3: the EM host driver allows 4 s for upload */
+#define EM7180_UPLOAD_POLL_US		10000
+#define EM7180_UPLOAD_TIMEOUT_US	4000000
+#define EM7180_STANDBY_POLL_US		1000
+#define EM7180_STANDBY_TIMEOUT_US	1000000
+
+#define EM7180_ACCEL_GYRO_HZ_PER_LSB	10
+
+static const struct regmap_range em7180_readable_ranges[] = {
+	regmap_reg_range(EM7180_REG_QX, EM7180_REG_ERROR),
+	regmap_reg_range(EM7180_REG_ALGO_CTRL, EM7180_REG_PARAM_REQ),
+	regmap_reg_range(EM7180_REG_ROM_VERSION, EM7180_REG_RAM_VERSION + 1),
+	regmap_reg_range(EM7180_REG_PRODUCT_ID, EM7180_REG_RUN_STATUS),
+	regmap_reg_range(EM7180_REG_UPLOAD_ADDR, EM7180_REG_UPLOAD_ADDR + 1),
+	regmap_reg_range(EM7180_REG_CRC_HOST, EM7180_REG_CRC_HOST + 3),
+	regmap_reg_range(EM7180_REG_PASSTHRU_STATUS, EM7180_REG_PASSTHRU_CTRL),
+};
+
+static const struct regmap_access_table em7180_readable_table = {
+	.yes_ranges = em7180_readable_ranges,
+	.n_yes_ranges = ARRAY_SIZE(em7180_readable_ranges),
+};
+
+static const struct regmap_range em7180_writeable_ranges[] = {
+	regmap_reg_range(EM7180_REG_QRATE_DIVISOR, EM7180_REG_HOST_CTRL),
+	regmap_reg_range(EM7180_REG_ALGO_CTRL, EM7180_REG_PARAM_REQ),
+	regmap_reg_range(EM7180_REG_UPLOAD_ADDR, EM7180_REG_UPLOAD_DATA),
+	regmap_reg_range(EM7180_REG_RESET_REQ, EM7180_REG_RESET_REQ),
+	regmap_reg_range(EM7180_REG_SCL_LOW_CYCLES, EM7180_REG_PASSTHRU_CTRL),
+};
+
+static const struct regmap_access_table em7180_writeable_table = {
+	.yes_ranges = em7180_writeable_ranges,
+	.n_yes_ranges = ARRAY_SIZE(em7180_writeable_ranges),
+};
+
+/* Only the host's configuration registers keep what was written to them */
+static const struct regmap_range em7180_cached_ranges[] = {
+	regmap_reg_range(EM7180_REG_QRATE_DIVISOR, EM7180_REG_HOST_CTRL),
+	regmap_reg_range(EM7180_REG_ALGO_CTRL, 0x5F),
+	regmap_reg_range(EM7180_REG_SCL_LOW_CYCLES, EM7180_REG_PASSTHRU_CTRL),
+};
+
+static const struct regmap_access_table em7180_volatile_table = {
+	.no_ranges = em7180_cached_ranges,
+	.n_no_ranges = ARRAY_SIZE(em7180_cached_ranges),
+};
+
+static const struct regmap_range em7180_precious_ranges[] = {
+	regmap_reg_range(EM7180_REG_EVENT_STATUS, EM7180_REG_EVENT_STATUS),
+};
+
+static const struct regmap_access_table em7180_precious_table = {
+	.yes_ranges = em7180_precious_ranges,
+	.n_yes_ranges = ARRAY_SIZE(em7180_precious_ranges),
+};
+
+const struct regmap_config em7180_regmap_config = {
+	.name = "em7180",
+	.reg_bits = 8,
+	.val_bits = 8,
+	.max_register = EM7180_REG_MAX,
+	.rd_table = &em7180_readable_table,
+	.wr_table = &em7180_writeable_table,
+	.volatile_table = &em7180_volatile_table,
+	.precious_table = &em7180_precious_table,
+	.cache_type = EM7180_REGCACHE,
+};
+EXPORT_SYMBOL_NS_GPL(em7180_regmap_config, IIO_EM7180);
+
+/* Scaled output units, EM7180 register reference §1 "Units and scaling" */
+static const int em7180_accel_scale[] = { 0, 4785645 };	/* 0.000488 g */
+static const int em7180_anglvel_scale[] = { 0, 2663372 };	/* 0.1526 dps */
+static const int em7180_magn_scale[] = { 0, 305176 };	/* 0.0305176 uT */
+
+static const int em7180_accel_gyro_freq_avail[] = {
+	10, 20, 50, 100, 200, 500, 1000,
+};
+
+static const int em7180_magn_freq_avail[] = {
+	1, 10, 20, 30, 50, 100,
+};
+
+static const struct iio_mount_matrix *
+em7180_get_mount_matrix(const struct iio_dev *indio_dev,
+			const struct iio_chan_spec *chan)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+
+	return &data->orientation;
+}
+
+static const struct iio_chan_spec_ext_info em7180_ext_info[] = {
+	IIO_MOUNT_MATRIX(IIO_SHARED_BY_TYPE, em7180_get_mount_matrix),
+	{ }
+};
+
+#define EM7180_VEC_CHANNEL(_type, _axis, _reg, _index, _sep)		\
+{									\
+	.type = _type,							\
+	.modified = 1,							\
+	.channel2 = IIO_MOD_##_axis,					\
+	.address = _reg,						\
+	.info_mask_separate = BIT(IIO_CHAN_INFO_RAW) | (_sep),		\
+	.info_mask_shared_by_type = BIT(IIO_CHAN_INFO_SCALE) |		\
+				    BIT(IIO_CHAN_INFO_SAMP_FREQ),	\
+	.info_mask_shared_by_type_available =				\
+				    BIT(IIO_CHAN_INFO_SAMP_FREQ),	\
+	.scan_index = _index,						\
+	.scan_type = {							\
+		.sign = 's',						\
+		.realbits = 16,						\
+		.storagebits = 16,					\
+		.endianness = IIO_LE,					\
+	},								\
+	.ext_info = em7180_ext_info,					\
+}
+
+static const struct iio_chan_spec em7180_channels[] = {
+	{
+		.type = IIO_ROT,
+		.modified = 1,
+		.channel2 = IIO_MOD_QUATERNION,
+		.address = EM7180_REG_QX,
+		.info_mask_separate = BIT(IIO_CHAN_INFO_RAW) |
+				      BIT(IIO_CHAN_INFO_SCALE),
+		.scan_index = EM7180_SCAN_QUAT,
+		.scan_type = {
+			.sign = 's',
+			.realbits = 32,
+			.storagebits = 32,
+			.endianness = IIO_CPU,
+			.repeat = 4,
+		},
+	},
+	EM7180_VEC_CHANNEL(IIO_MAGN, X, EM7180_REG_MX, EM7180_SCAN_MAGN_X, 0),
+	EM7180_VEC_CHANNEL(IIO_MAGN, Y, EM7180_REG_MX + 2, EM7180_SCAN_MAGN_Y, 0),
+	EM7180_VEC_CHANNEL(IIO_MAGN, Z, EM7180_REG_MX + 4, EM7180_SCAN_MAGN_Z, 0),
+	EM7180_VEC_CHANNEL(IIO_ACCEL, X, EM7180_REG_AX, EM7180_SCAN_ACCEL_X,
+			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
+	EM7180_VEC_CHANNEL(IIO_ACCEL, Y, EM7180_REG_AX + 2, EM7180_SCAN_ACCEL_Y,
+			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
+	EM7180_VEC_CHANNEL(IIO_ACCEL, Z, EM7180_REG_AX + 4, EM7180_SCAN_ACCEL_Z,
+			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
+	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, X, EM7180_REG_GX, EM7180_SCAN_ANGLVEL_X, 0),
+	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, Y, EM7180_REG_GX + 2, EM7180_SCAN_ANGLVEL_Y, 0),
+	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, Z, EM7180_REG_GX + 4, EM7180_SCAN_ANGLVEL_Z, 0),
+	IIO_CHAN_SOFT_TIMESTAMP(EM7180_SCAN_TIMESTAMP),
+};
+
+static unsigned int em7180_chan_bytes(const struct iio_chan_spec *chan)
+{
+	return chan->type == IIO_ROT ? 16 : 2;
+}
+
+static int em7180_rate_regs(enum iio_chan_type type, unsigned int *reg,
+			    unsigned int *actual, unsigned int *hz_per_lsb)
+{
+	switch (type) {
+	case IIO_MAGN:
+		*reg = EM7180_REG_MAG_RATE;
+		*actual = EM7180_REG_ACTUAL_MAG_RATE;
+		*hz_per_lsb = 1;
+		return 0;
+	case IIO_ACCEL:
+		*reg = EM7180_REG_ACCEL_RATE;
+		*actual = EM7180_REG_ACTUAL_ACCEL_RATE;
+		*hz_per_lsb = EM7180_ACCEL_GYRO_HZ_PER_LSB;
+		return 0;
+	case IIO_ANGL_VEL:
+		*reg = EM7180_REG_GYRO_RATE;
+		*actual = EM7180_REG_ACTUAL_GYRO_RATE;
+		*hz_per_lsb = EM7180_ACCEL_GYRO_HZ_PER_LSB;
+		return 0;
+	default:
+		return -EINVAL;
+	}
+}
+
+/*
+ * Report the rate the sensor actually runs at; before the sensor has
+ * started, the actual-rate register reads 0 and the requested rate is
+ * reported instead.
+ */
+static int em7180_read_freq(struct em7180_data *data,
+			    const struct iio_chan_spec *chan, int *val)
+{
+	unsigned int reg, actual, hz_per_lsb, rate;
+	int ret;
+
+	ret = em7180_rate_regs(chan->type, &reg, &actual, &hz_per_lsb);
+	if (ret)
+		return ret;
+
+	mutex_lock(&data->lock);
+	ret = regmap_read(data->regmap, actual, &rate);
+	if (!ret && !rate)
+		ret = regmap_read(data->regmap, reg, &rate);
+	mutex_unlock(&data->lock);
+	if (ret)
+		return ret;
+
+	*val = rate * hz_per_lsb;
+	return IIO_VAL_INT;
+}
+
+static int em7180_write_freq(struct em7180_data *data,
+			     const struct iio_chan_spec *chan, int val)
+{
+	unsigned int reg, actual, hz_per_lsb;
+	const int *avail;
+	int n, ret;
+
+	ret = em7180_rate_regs(chan->type, &reg, &actual, &hz_per_lsb);
+	if (ret)
+		return ret;
+
+	if (chan->type == IIO_MAGN) {
+		avail = em7180_magn_freq_avail;
+		n = ARRAY_SIZE(em7180_magn_freq_avail);
+	} else {
+		avail = em7180_accel_gyro_freq_avail;
+		n = ARRAY_SIZE(em7180_accel_gyro_freq_avail);
+	}
+	if (val < avail[0] || val > avail[n - 1])
+		return -EINVAL;
+
+	mutex_lock(&data->lock);
+	ret = regmap_write(data->regmap, reg,
+			   DIV_ROUND_CLOSEST(val, hz_per_lsb));
+	mutex_unlock(&data->lock);
+
+	return ret;
+}
+
+static int em7180_read_calibbias(struct em7180_data *data,
+				 const struct iio_chan_spec *chan, int *val)
+{
+	unsigned int param = EM7180_ACCEL_OFFSET_PARAM +
+			     (chan->address - EM7180_REG_AX) / 2;
+	u32 bits;
+	int ret;
+
+	mutex_lock(&data->lock);
+	ret = em7180_params_read(data, param, 1, &bits);
+	mutex_unlock(&data->lock);
+	if (ret)
+		return ret;
+
+	ret = em7180_float_g_to_lsb(bits, val);
+	if (ret)
+		return ret;
+
+	return IIO_VAL_INT;
+}
+
+static int em7180_write_calibbias(struct em7180_data *data,
+				  const struct iio_chan_spec *chan, int val)
+{
+	unsigned int param = EM7180_ACCEL_OFFSET_PARAM +
+			     (chan->address - EM7180_REG_AX) / 2;
+	u32 bits;
+	int ret;
+
+	if (val < S16_MIN || val > S16_MAX)
+		return -EINVAL;
+
+	bits = em7180_lsb_to_float_g(val);
+
+	mutex_lock(&data->lock);
+	ret = em7180_params_write(data, param, 1, &bits);
+	/* Keep the copy re-applied after a power loss in step */
+	if (!ret && data->ws_valid)
+		put_unaligned_le32(bits, &data->ws[(param - EM7180_WS_FIRST_PARAM) * 4]);
+	mutex_unlock(&data->lock);
+
+	return ret;
+}
+
+static int em7180_read_raw_vec(struct em7180_data *data,
+			       const struct iio_chan_spec *chan, int *val)
+{
+	__le16 raw;
+	int ret;
+
+	mutex_lock(&data->lock);
+	ret = regmap_bulk_read(data->regmap, chan->address, &raw, sizeof(raw));
+	mutex_unlock(&data->lock);
+	if (ret)
+		return ret;
+
+	*val = (s16)le16_to_cpu(raw);
+	return IIO_VAL_INT;
+}
+
+static int em7180_read_quat(struct em7180_data *data, int *vals)
+{
+	u8 raw[16];
+	int i, ret;
+
+	mutex_lock(&data->lock);
+	ret = regmap_bulk_read(data->regmap, EM7180_REG_QX, raw, sizeof(raw));
+	mutex_unlock(&data->lock);
+	if (ret)
+		return ret;
+
+	/* x, y, z, w: register order, which is also the ABI order */
+	for (i = 0; i < 4; i++)
+		vals[i] = em7180_float_to_q30(get_unaligned_le32(&raw[4 * i]));
+
+	return IIO_VAL_INT_MULTIPLE;
+}
+
+static int em7180_read_scale(const struct iio_chan_spec *chan, int *val,
+			     int *val2)
+{
+	const int *scale;
+
+	switch (chan->type) {
+	case IIO_ROT:
+		*val = 1;
+		*val2 = 30;
+		return IIO_VAL_FRACTIONAL_LOG2;
+	case IIO_ACCEL:
+		scale = em7180_accel_scale;
+		break;
+	case IIO_ANGL_VEL:
+		scale = em7180_anglvel_scale;
+		break;
+	case IIO_MAGN:
+		scale = em7180_magn_scale;
+		break;
+	default:
+		return -EINVAL;
+	}
+
+	*val = scale[0];
+	*val2 = scale[1];
+	return IIO_VAL_INT_PLUS_NANO;
+}
+
+static int em7180_read_raw_multi(struct iio_dev *indio_dev,
+				 const struct iio_chan_spec *chan,
+				 int max_len, int *vals, int *val_len,
+				 long mask)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+	int ret;
+
+	*val_len = 2;
+
+	switch (mask) {
+	case IIO_CHAN_INFO_RAW:
+		if (chan->type == IIO_ROT && max_len < 4)
+			return -EINVAL;
+		ret = iio_device_claim_direct_mode(indio_dev);
+		if (ret)
+			return ret;
+		if (chan->type == IIO_ROT) {
+			ret = em7180_read_quat(data, vals);
+			*val_len = 4;
+		} else {
+			ret = em7180_read_raw_vec(data, chan, vals);
+		}
+		iio_device_release_direct_mode(indio_dev);
+		return ret;
+	case IIO_CHAN_INFO_SCALE:
+		return em7180_read_scale(chan, &vals[0], &vals[1]);
+	case IIO_CHAN_INFO_SAMP_FREQ:
+		return em7180_read_freq(data, chan, vals);
+	case IIO_CHAN_INFO_CALIBBIAS:
+		ret = iio_device_claim_direct_mode(indio_dev);
+		if (ret)
+			return ret;
+		ret = em7180_read_calibbias(data, chan, vals);
+		iio_device_release_direct_mode(indio_dev);
+		return ret;
+	default:
+		return -EINVAL;
+	}
+}
+
+static int em7180_read_avail(struct iio_dev *indio_dev,
+			     const struct iio_chan_spec *chan,
+			     const int **vals, int *type, int *length,
+			     long mask)
+{
+	if (mask != IIO_CHAN_INFO_SAMP_FREQ)
+		return -EINVAL;
+
+	*type = IIO_VAL_INT;
+	if (chan->type == IIO_MAGN) {
+		*vals = em7180_magn_freq_avail;
+		*length = ARRAY_SIZE(em7180_magn_freq_avail);
+	} else {
+		*vals = em7180_accel_gyro_freq_avail;
+		*length = ARRAY_SIZE(em7180_accel_gyro_freq_avail);
+	}
+
+	return IIO_AVAIL_LIST;
+}
+
+static int em7180_write_raw(struct iio_dev *indio_dev,
+			    const struct iio_chan_spec *chan,
+			    int val, int val2, long mask)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+	int ret;
+
+	if (val2)
+		return -EINVAL;
+
+	ret = iio_device_claim_direct_mode(indio_dev);
+	if (ret)
+		return ret;
+
+	switch (mask) {
+	case IIO_CHAN_INFO_SAMP_FREQ:
+		ret = em7180_write_freq(data, chan, val);
+		break;
+	case IIO_CHAN_INFO_CALIBBIAS:
+		ret = em7180_write_calibbias(data, chan, val);
+		break;
+	default:
+		ret = -EINVAL;
+		break;
+	}
+
+	iio_device_release_direct_mode(indio_dev);
+	return ret;
+}
+
+static int em7180_write_raw_get_fmt(struct iio_dev *indio_dev,
+				    struct iio_chan_spec const *chan,
+				    long mask)
+{
+	return IIO_VAL_INT;
+}
+
+static int em7180_read_reg(struct em7180_data *data, unsigned int reg,
+			   unsigned int *val)
+{
+	int ret;
+
+	mutex_lock(&data->lock);
+	ret = regmap_read(data->regmap, reg, val);
+	mutex_unlock(&data->lock);
+
+	return ret;
+}
+
+static ssize_t calibration_status_show(struct device *dev,
+				       struct device_attribute *attr, char *buf)
+{
+	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
+	unsigned int val;
+	int ret;
+
+	ret = em7180_read_reg(data, EM7180_REG_CAL_STATUS, &val);
+	if (ret)
+		return ret;
+
+	return sysfs_emit(buf, "%lu\n", FIELD_GET(EM7180_CAL_STATUS_MASK, val));
+}
+
+static ssize_t mag_transient_show(struct device *dev,
+				  struct device_attribute *attr, char *buf)
+{
+	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
+	unsigned int val;
+	int ret;
+
+	ret = em7180_read_reg(data, EM7180_REG_CAL_STATUS, &val);
+	if (ret)
+		return ret;
+
+	return sysfs_emit(buf, "%lu\n",
+			  FIELD_GET(EM7180_CAL_MAG_TRANSIENT_MASK, val));
+}
+
+static ssize_t gyro_bias_update_show(struct device *dev,
+				     struct device_attribute *attr, char *buf)
+{
+	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
+	unsigned int val;
+	int ret;
+
+	ret = em7180_read_reg(data, EM7180_REG_CAL_FLAGS, &val);
+	if (ret)
+		return ret;
+
+	return sysfs_emit(buf, "%d\n", !!(val & EM7180_CAL_FLAG_GBIAS_UPDATE));
+}
+
+static ssize_t mag_calibration_update_show(struct device *dev,
+					   struct device_attribute *attr,
+					   char *buf)
+{
+	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
+	unsigned int val;
+	int ret;
+
+	ret = em7180_read_reg(data, EM7180_REG_CAL_FLAGS, &val);
+	if (ret)
+		return ret;
+
+	return sysfs_emit(buf, "%d\n", !!(val & EM7180_CAL_FLAG_MAG_UPDATE));
+}
+
+/**
+ * em7180_format_score() - format the calibration score register
+ * @buf: destination
+ * @size: size of @buf
+ * @raw: CalScore register pair (0x4D | 0x4E << 8)
+ *
+ * The application note defines the score as (raw - 32768) / 32768 * 100;
+ * it is printed with three decimals, rounded to nearest with integer math.
+ *
+ * Return: the number of characters written, as scnprintf().
+ */
+int em7180_format_score(char *buf, size_t size, u16 raw)
+{
+	/* 100000 / 32768 = 3125 / 1024; |product| < 2^27 */
+	int milli = DIV_ROUND_CLOSEST(((int)raw - 32768) * 3125, 1024);
+
+	return scnprintf(buf, size, "%s%d.%03d\n", milli < 0 ? "-" : "",
+			 abs(milli) / 1000, abs(milli) % 1000);
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_format_score);
+
+static ssize_t calibration_score_show(struct device *dev,
+				      struct device_attribute *attr, char *buf)
+{
+	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
+	__le16 raw;
+	int ret;
+
+	mutex_lock(&data->lock);
+	ret = regmap_bulk_read(data->regmap, EM7180_REG_CAL_SCORE, &raw,
+			       sizeof(raw));
+	mutex_unlock(&data->lock);
+	if (ret)
+		return ret;
+
+	return em7180_format_score(buf, PAGE_SIZE, le16_to_cpu(raw));
+}
+
+static IIO_DEVICE_ATTR_RO(calibration_status, 0);
+static IIO_DEVICE_ATTR_RO(calibration_score, 0);
+static IIO_DEVICE_ATTR_RO(mag_transient, 0);
+static IIO_DEVICE_ATTR_RO(gyro_bias_update, 0);
+static IIO_DEVICE_ATTR_RO(mag_calibration_update, 0);
+
+/**
+ * em7180_warmstart_check() - validate a warmstart attribute access
+ * @buf: the blob, for a write
+ * @off: file offset of the access
+ * @count: size of the access
+ * @write: true for a write, whose payload is checked as well
+ *
+ * Only whole-blob accesses are allowed, and a written blob must hold
+ * 35 finite floats. Nothing here touches the chip.
+ *
+ * Return: 0 or -EINVAL.
+ */
+int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
+			   bool write)
+{
+	unsigned int i;
+
+	if (off || count != EM7180_WS_SIZE)
+		return -EINVAL;
+
+	if (write) {
+		for (i = 0; i < EM7180_WS_SIZE; i += 4)
+			if (!em7180_float_is_finite(get_unaligned_le32(&buf[i])))
+				return -EINVAL;
+	}
+
+	return 0;
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_check);
+
+static ssize_t warmstart_read(struct file *filp, struct kobject *kobj,
+			      struct bin_attribute *attr, char *buf,
+			      loff_t off, size_t count)
+{
+	struct iio_dev *indio_dev = dev_to_iio_dev(kobj_to_dev(kobj));
+	struct em7180_data *data = iio_priv(indio_dev);
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	unsigned int i;
+	int ret;
+
+	ret = em7180_warmstart_check(buf, off, count, false);
+	if (ret)
+		return ret;
+
+	ret = iio_device_claim_direct_mode(indio_dev);
+	if (ret)
+		return ret;
+
+	mutex_lock(&data->lock);
+	ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM,
+				 EM7180_WS_NUM_PARAMS, vals);
+	if (!ret) {
+		for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+			put_unaligned_le32(vals[i], &buf[4 * i]);
+		data->ws_valid = !em7180_warmstart_check(buf, 0, count, true);
+		if (data->ws_valid)
+			memcpy(data->ws, buf, EM7180_WS_SIZE);
+	}
+	mutex_unlock(&data->lock);
+
+	iio_device_release_direct_mode(indio_dev);
+
+	return ret ?: count;
+}
+
+static ssize_t warmstart_write(struct file *filp, struct kobject *kobj,
+			       struct bin_attribute *attr, char *buf,
+			       loff_t off, size_t count)
+{
+	struct iio_dev *indio_dev = dev_to_iio_dev(kobj_to_dev(kobj));
+	struct em7180_data *data = iio_priv(indio_dev);
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	unsigned int i;
+	int ret;
+
+	ret = em7180_warmstart_check(buf, off, count, true);
+	if (ret)
+		return ret;
+
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		vals[i] = get_unaligned_le32(&buf[4 * i]);
+
+	ret = iio_device_claim_direct_mode(indio_dev);
+	if (ret)
+		return ret;
+
+	mutex_lock(&data->lock);
+	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
+				  EM7180_WS_NUM_PARAMS, vals);
+	if (!ret) {
+		memcpy(data->ws, buf, EM7180_WS_SIZE);
+		data->ws_valid = true;
+	}
+	mutex_unlock(&data->lock);
+
+	iio_device_release_direct_mode(indio_dev);
+
+	return ret ?: count;
+}
+
+static BIN_ATTR_ADMIN_RW(warmstart, EM7180_WS_SIZE);
+
+static struct attribute *em7180_attrs[] = {
+	&iio_dev_attr_calibration_status.dev_attr.attr,
+	&iio_dev_attr_calibration_score.dev_attr.attr,
+	&iio_dev_attr_mag_transient.dev_attr.attr,
+	&iio_dev_attr_gyro_bias_update.dev_attr.attr,
+	&iio_dev_attr_mag_calibration_update.dev_attr.attr,
+	NULL
+};
+
+static struct bin_attribute *em7180_bin_attrs[] = {
+	&bin_attr_warmstart,
+	NULL
+};
+
+static const struct attribute_group em7180_attr_group = {
+	.attrs = em7180_attrs,
+	.bin_attrs = em7180_bin_attrs,
+};
+
+static const struct iio_info em7180_info = {
+	.read_raw_multi = em7180_read_raw_multi,
+	.read_avail = em7180_read_avail,
+	.write_raw = em7180_write_raw,
+	.write_raw_get_fmt = em7180_write_raw_get_fmt,
+	.attrs = &em7180_attr_group,
+};
+
+/*
+ * Copy the enabled channels out of one burst that spans them, in scan
+ * order; the quaternion floats become Q30 on the way.
+ */
+static irqreturn_t em7180_trigger_handler(int irq, void *p)
+{
+	struct iio_poll_func *pf = p;
+	struct iio_dev *indio_dev = pf->indio_dev;
+	struct em7180_data *data = iio_priv(indio_dev);
+	const unsigned long *mask = indio_dev->active_scan_mask;
+	const struct iio_chan_spec *lo, *hi;
+	unsigned int bit, start, pos = 0;
+	s64 ts = pf->timestamp;
+	const u8 *src;
+	s32 q;
+	int i, ret;
+
+	if (iio_trigger_using_own(indio_dev))
+		ts = data->timestamp;
+
+	bit = find_first_bit(mask, EM7180_SCAN_TIMESTAMP);
+	if (bit < EM7180_SCAN_TIMESTAMP) {
+		lo = &em7180_channels[bit];
+		hi = &em7180_channels[find_last_bit(mask, EM7180_SCAN_TIMESTAMP)];
+		start = lo->address;
+
+		mutex_lock(&data->lock);
+		ret = regmap_bulk_read(data->regmap, start, data->burst,
+				       hi->address + em7180_chan_bytes(hi) - start);
+		mutex_unlock(&data->lock);
+		if (ret)
+			goto done;
+
+		for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP) {
+			src = &data->burst[em7180_channels[bit].address - start];
+			if (bit != EM7180_SCAN_QUAT) {
+				memcpy(&data->scan[pos], src, 2);
+				pos += 2;
+				continue;
+			}
+			for (i = 0; i < 4; i++) {
+				q = em7180_float_to_q30(get_unaligned_le32(&src[4 * i]));
+				memcpy(&data->scan[pos], &q, sizeof(q));
+				pos += sizeof(q);
+			}
+		}
+	}
+
+	iio_push_to_buffers_with_timestamp(indio_dev, data->scan, ts);
+
+done:
+	iio_trigger_notify_done(indio_dev->trig);
+	return IRQ_HANDLED;
+}
+
+static irqreturn_t em7180_irq_handler(int irq, void *p)
+{
+	struct iio_dev *indio_dev = p;
+	struct em7180_data *data = iio_priv(indio_dev);
+
+	data->timestamp = iio_get_time_ns(indio_dev);
+	return IRQ_WAKE_THREAD;
+}
+
+/* Reading EventStatus clears it and releases the INT line */
+static irqreturn_t em7180_irq_thread(int irq, void *p)
+{
+	struct iio_dev *indio_dev = p;
+	struct em7180_data *data = iio_priv(indio_dev);
+	unsigned int status, err = 0;
+	int ret;
+
+	mutex_lock(&data->lock);
+	ret = regmap_read(data->regmap, EM7180_REG_EVENT_STATUS, &status);
+	if (!ret && (status & EM7180_EVENT_ERROR))
+		ret = regmap_read(data->regmap, EM7180_REG_ERROR, &err);
+	mutex_unlock(&data->lock);
+	if (ret)
+		return IRQ_HANDLED;
+
+	if (status & EM7180_EVENT_ERROR)
+		dev_err_ratelimited(data->dev, "chip error 0x%02x\n", err);
+
+	if (status & EM7180_EVENT_DATA)
+		em7180_trigger_poll_nested(data->trig);
+
+	return IRQ_HANDLED;
+}
+
+static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
+{
+	struct iio_dev *indio_dev = iio_trigger_get_drvdata(trig);
+	struct em7180_data *data = iio_priv(indio_dev);
+	const unsigned long *mask = indio_dev->active_scan_mask;
+	unsigned int events = EM7180_EVENT_ERROR;
+	int ret;
+
+	/* Interrupt on new data of the sensors whose channels are captured */
+	if (state && mask) {
+		if (test_bit(EM7180_SCAN_QUAT, mask))
+			events |= EM7180_EVENT_QUAT;
+		if (test_bit(EM7180_SCAN_MAGN_X, mask) ||
+		    test_bit(EM7180_SCAN_MAGN_Y, mask) ||
+		    test_bit(EM7180_SCAN_MAGN_Z, mask))
+			events |= EM7180_EVENT_MAG;
+		if (test_bit(EM7180_SCAN_ACCEL_X, mask) ||
+		    test_bit(EM7180_SCAN_ACCEL_Y, mask) ||
+		    test_bit(EM7180_SCAN_ACCEL_Z, mask))
+			events |= EM7180_EVENT_ACCEL;
+		if (test_bit(EM7180_SCAN_ANGLVEL_X, mask) ||
+		    test_bit(EM7180_SCAN_ANGLVEL_Y, mask) ||
+		    test_bit(EM7180_SCAN_ANGLVEL_Z, mask))
+			events |= EM7180_EVENT_GYRO;
+		/* Only the timestamp: pace it with the gyroscope */
+		if (events == EM7180_EVENT_ERROR)
+			events |= EM7180_EVENT_GYRO;
+	}
+
+	mutex_lock(&data->lock);
+	ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS, events);
+	mutex_unlock(&data->lock);
+
+	return ret;
+}
+
+static const struct iio_trigger_ops em7180_trigger_ops = {
+	.set_trigger_state = em7180_trigger_set_state,
+	.validate_device = iio_trigger_validate_own_device,
+};
+
+static int em7180_trigger_probe(struct iio_dev *indio_dev, int irq)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+	struct device *dev = data->dev;
+	int ret;
+
+	data->trig = devm_iio_trigger_alloc(dev, "%s-dev%d", indio_dev->name,
+					    iio_device_id(indio_dev));
+	if (!data->trig)
+		return -ENOMEM;
+
+	data->trig->ops = &em7180_trigger_ops;
+	iio_trigger_set_drvdata(data->trig, indio_dev);
+
+	ret = devm_request_threaded_irq(dev, irq, em7180_irq_handler,
+					em7180_irq_thread, IRQF_ONESHOT,
+					indio_dev->name, indio_dev);
+	if (ret)
+		return dev_err_probe(dev, ret, "failed to request irq %d\n", irq);
+
+	ret = devm_iio_trigger_register(dev, data->trig);
+	if (ret)
+		return dev_err_probe(dev, ret, "failed to register trigger\n");
+
+	indio_dev->trig = iio_trigger_get(data->trig);
+
+	return 0;
+}
+
+/*
+ * After power-on or a reset the chip uploads its firmware from EEPROM; a
+ * chip found stuck is reset once (EM7180 register reference §3 and §5).
+ */
+static int em7180_wait_firmware(struct em7180_data *data)
+{
+	unsigned int status;
+	int ret, tries;
+
+	for (tries = 0; tries < 2; tries++) {
+		if (tries) {
+			dev_warn(data->dev,
+				 "firmware upload not done (status 0x%02x), resetting\n",
+				 status);
+			ret = regmap_write(data->regmap, EM7180_REG_RESET_REQ,
+					   EM7180_RESET_REQ_RESET);
+			if (ret)
+				return ret;
+		}
+
+		ret = regmap_read_poll_timeout(data->regmap,
+					       EM7180_REG_SENTRAL_STATUS, status,
+					       status & (EM7180_SENTRAL_UPLOAD_DONE |
+							 EM7180_SENTRAL_UPLOAD_ERR |
+							 EM7180_SENTRAL_NO_EEPROM),
+					       EM7180_UPLOAD_POLL_US,
+					       EM7180_UPLOAD_TIMEOUT_US);
+		if (ret && ret != -ETIMEDOUT)
+			return ret;
+		if (!ret && (status & EM7180_SENTRAL_UPLOAD_DONE) &&
+		    !(status & EM7180_SENTRAL_UPLOAD_ERR))
+			return 0;
+	}
+
+	if (status & EM7180_SENTRAL_NO_EEPROM)
+		return dev_err_probe(data->dev, -ENODEV,
+				     "no firmware EEPROM (status 0x%02x); host upload is not supported\n",
+				     status);
+
+	return dev_err_probe(data->dev, -EIO,
+			     "firmware upload failed (SentralStatus 0x%02x)\n",
+			     status);
+}
+
+/*
+ * Scaled NED quaternion output (AlgorithmControl = 0), quaternion at the
+ * gyroscope rate, error interrupts, algorithm running. Also leaves any
+ * parameter transfer an earlier user may have abandoned.
+ */
+static int em7180_chip_init(struct em7180_data *data)
+{
+	static const struct reg_sequence init_seq[] = {
+		{ EM7180_REG_PARAM_REQ, 0 },
+		{ EM7180_REG_ALGO_CTRL, 0 },
+		{ EM7180_REG_MAG_RATE, 30 },
+		{ EM7180_REG_ACCEL_RATE, 100 / EM7180_ACCEL_GYRO_HZ_PER_LSB },
+		{ EM7180_REG_GYRO_RATE, 100 / EM7180_ACCEL_GYRO_HZ_PER_LSB },
+		{ EM7180_REG_QRATE_DIVISOR, 0 },
+		{ EM7180_REG_ENABLE_EVENTS, EM7180_EVENT_ERROR },
+		{ EM7180_REG_HOST_CTRL, EM7180_HOST_CTRL_RUN },
+	};
+
+	return regmap_multi_reg_write(data->regmap, init_seq,
+				      ARRAY_SIZE(init_seq));
+}
+
+static int em7180_standby(struct em7180_data *data)
+{
+	unsigned int status;
+	int ret;
+
+	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
+			   EM7180_ALGO_CTRL_STANDBY);
+	if (ret)
+		return ret;
+
+	return regmap_read_poll_timeout(data->regmap, EM7180_REG_ALGO_STATUS,
+					status,
+					status & EM7180_ALGO_STATUS_HALTED,
+					EM7180_STANDBY_POLL_US,
+					EM7180_STANDBY_TIMEOUT_US);
+}
+
+static void em7180_standby_action(void *arg)
+{
+	struct em7180_data *data = arg;
+
+	mutex_lock(&data->lock);
+	em7180_standby(data);
+	mutex_unlock(&data->lock);
+}
+
+static int em7180_check_id(struct em7180_data *data)
+{
+	u8 id[2];
+	int ret;
+
+	ret = regmap_bulk_read(data->regmap, EM7180_REG_PRODUCT_ID, id,
+			       sizeof(id));
+	if (ret)
+		return dev_err_probe(data->dev, ret, "failed to read chip ID\n");
+
+	if (id[0] != EM7180_PRODUCT_ID || id[1] != EM7180_REVISION_ID)
+		return dev_err_probe(data->dev, -ENODEV,
+				     "ProductID 0x%02x RevisionID 0x%02x, expected 0x%02x 0x%02x\n",
+				     id[0], id[1], EM7180_PRODUCT_ID,
+				     EM7180_REVISION_ID);
+
+	return 0;
+}
+
+/**
+ * em7180_core_probe() - probe an EM7180 behind any bus
+ * @dev: the bus device
+ * @regmap: register map built with em7180_regmap_config
+ * @irq: interrupt of the INT pin, or 0 when not wired
+ *
+ * Return: 0 or a negative error code.
+ */
+int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
+{
+	static const char * const regulators[] = { "vdd", "vddio" };
+	struct em7180_data *data;
+	struct iio_dev *indio_dev;
+	int ret;
+
+	indio_dev = devm_iio_device_alloc(dev, sizeof(*data));
+	if (!indio_dev)
+		return -ENOMEM;
+
+	data = iio_priv(indio_dev);
+	data->dev = dev;
+	data->regmap = regmap;
+	mutex_init(&data->lock);
+	em7180_param_init(data);
+	dev_set_drvdata(dev, indio_dev);
+
+	ret = devm_regulator_bulk_get_enable(dev, ARRAY_SIZE(regulators),
+					     regulators);
+	if (ret)
+		return dev_err_probe(dev, ret, "failed to enable regulators\n");
+
+	ret = iio_read_mount_matrix(dev, &data->orientation);
+	if (ret)
+		return dev_err_probe(dev, ret, "failed to read mount matrix\n");
+
+	ret = em7180_check_id(data);
+	if (ret)
+		return ret;
+
+	ret = em7180_wait_firmware(data);
+	if (ret)
+		return ret;
+
+	ret = em7180_chip_init(data);
+	if (ret)
+		return dev_err_probe(dev, ret, "failed to configure the chip\n");
+
+	ret = devm_add_action_or_reset(dev, em7180_standby_action, data);
+	if (ret)
+		return ret;
+
+	indio_dev->name = "em7180";
+	indio_dev->info = &em7180_info;
+	indio_dev->channels = em7180_channels;
+	indio_dev->num_channels = ARRAY_SIZE(em7180_channels);
+	indio_dev->modes = INDIO_DIRECT_MODE;
+
+	if (irq > 0) {
+		ret = em7180_trigger_probe(indio_dev, irq);
+		if (ret)
+			return ret;
+	}
+
+	ret = devm_iio_triggered_buffer_setup(dev, indio_dev,
+					      iio_pollfunc_store_time,
+					      em7180_trigger_handler, NULL);
+	if (ret)
+		return dev_err_probe(dev, ret, "failed to set up buffer\n");
+
+	return devm_iio_device_register(dev, indio_dev);
+}
+EXPORT_SYMBOL_NS_GPL(em7180_core_probe, IIO_EM7180);
+
+static int em7180_suspend(struct device *dev)
+{
+	struct em7180_data *data = iio_priv(dev_get_drvdata(dev));
+	int ret;
+
+	mutex_lock(&data->lock);
+	ret = em7180_standby(data);
+	mutex_unlock(&data->lock);
+
+	return ret;
+}
+
+/*
+ * SentralStatus shows the CPU in its standby state only after a reset: a
+ * suspended chip keeps executing with just the algorithm halted. Then the
+ * configuration and the last known warm start are written back.
+ */
+static int em7180_resume(struct device *dev)
+{
+	struct em7180_data *data = iio_priv(dev_get_drvdata(dev));
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	unsigned int status, i;
+	int ret;
+
+	mutex_lock(&data->lock);
+
+	ret = regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, &status);
+	if (ret)
+		goto out;
+
+	if (!(status & EM7180_SENTRAL_STANDBY)) {
+		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+		goto out;
+	}
+
+	dev_info(dev, "chip lost power, restoring its state\n");
+
+	ret = em7180_wait_firmware(data);
+	if (ret)
+		goto out;
+
+	regcache_mark_dirty(data->regmap);
+	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+	if (!ret)
+		ret = regcache_sync_region(data->regmap,
+					   EM7180_REG_QRATE_DIVISOR,
+					   EM7180_REG_GYRO_RATE);
+	if (ret || !data->ws_valid)
+		goto out;
+
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		vals[i] = get_unaligned_le32(&data->ws[4 * i]);
+	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
+				  EM7180_WS_NUM_PARAMS, vals);
+out:
+	mutex_unlock(&data->lock);
+	return ret;
+}
+
+EXPORT_NS_GPL_SIMPLE_DEV_PM_OPS(em7180_pm_ops, em7180_suspend, em7180_resume,
+				IIO_EM7180);
+
+MODULE_AUTHOR("The sentral project");
+MODULE_DESCRIPTION("PNI SENtral / EM7180 sensor-fusion hub core driver");
+MODULE_LICENSE("GPL");
