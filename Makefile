@@ -1,0 +1,52 @@
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# sentral: driver, tool and tests for the PNI SENtral / EM7180 sensor hub.
+#
+#   make              build the driver against KDIR and the tool
+#   make check        run every test on the simulated chip (both kernels)
+#   make demo         the whole story on the simulated chip
+#   make uml          build the User-Mode Linux test kernels
+#   make install      install the modules, the tool, its udev rule and unit
+
+KDIR     ?= /lib/modules/$(shell uname -r)/build
+VERSIONS ?= 6.12 6.1
+TOOL     := tools/sentral-warmstart
+
+all: modules tool
+
+modules:
+	@test -d "$(KDIR)" || { echo "KDIR=$(KDIR) not found: install the kernel headers or set KDIR"; exit 1; }
+	$(MAKE) -C $(KDIR) M=$(CURDIR) CONFIG_EM7180=m CONFIG_EM7180_I2C=m modules
+
+modules_install: modules
+	$(MAKE) -C $(KDIR) M=$(CURDIR) CONFIG_EM7180=m CONFIG_EM7180_I2C=m modules_install
+
+tool:
+	$(MAKE) -C $(TOOL)
+
+prepare:
+	tests/kernel/prepare $(VERSIONS)
+
+uml: prepare
+	@for v in $(VERSIONS); do tests/uml/build $$v || exit 1; done
+
+kunit: prepare
+	@for v in $(VERSIONS); do tests/kernel/kunit $$v || exit 1; done
+
+check: uml tool
+	VERSIONS="$(VERSIONS)" tests/run-suites
+
+demo: uml tool
+	tests/demo
+
+install: modules_install
+	$(MAKE) -C $(TOOL) install
+
+clean:
+	-test -d "$(KDIR)" && $(MAKE) -C $(KDIR) M=$(CURDIR) clean
+	-$(MAKE) -C $(TOOL) clean
+
+distclean: clean
+	rm -rf build
+
+.PHONY: all modules modules_install tool prepare uml kunit check demo install clean distclean
