@@ -30,7 +30,7 @@
 #define EM7180_REG_PARAM_ACK		0x3A
 #define EM7180_REG_SAVED_PARAM		0x3B	/* 0x3B..0x3E, u32 LE */
 #define EM7180_REG_CAL_STATUS		0x43
-#define EM7180_REG_CAL_FLAGS		0x44
+#define EM7180_REG_CAL_FLAGS		0x44	/* may clear on read */
 #define EM7180_REG_ACTUAL_MAG_RATE	0x45
 #define EM7180_REG_ACTUAL_ACCEL_RATE	0x46
 #define EM7180_REG_ACTUAL_GYRO_RATE	0x47
@@ -110,6 +110,13 @@ enum em7180_scan {
 	EM7180_SCAN_TIMESTAMP,
 };
 
+/*
+ * Quaternion components in Q14, as bno055: the IIO scale is printed with
+ * nine decimals, so 2^-14 = 0.000061035 is exact to 3 ppm where 2^-30
+ * would print as 0.
+ */
+#define EM7180_QUAT_FRAC_BITS		14
+
 /* One burst covers quaternion, magnetometer, accelerometer and gyroscope */
 #define EM7180_BURST_LEN		(EM7180_REG_GX + 6 - EM7180_REG_QX)
 
@@ -123,6 +130,7 @@ struct iio_trigger;
  * @lock: serialises every chip access and the fields below
  * @ack_wait_us: wait before the first ParamAcknowledge poll, learned
  * @ack_good_us: longest wait known to have been enough recently
+ * @cal_flags: calibration update flags read but not yet reported
  * @ws_valid: @ws holds the last warm start written or read
  * @ws: warm start to re-apply when the chip lost power during suspend
  * @orientation: mount matrix from firmware
@@ -137,6 +145,7 @@ struct em7180_data {
 	struct mutex lock;	/* chip access, ack estimate, warm start copy */
 	unsigned int ack_wait_us;
 	unsigned int ack_good_us;
+	u8 cal_flags;
 	bool ws_valid;
 	u8 ws[EM7180_WS_SIZE];
 	struct iio_mount_matrix orientation;
@@ -159,7 +168,7 @@ int em7180_params_write(struct em7180_data *data, unsigned int first,
 bool em7180_float_is_finite(u32 bits);
 u32 em7180_lsb_to_float_g(int lsb);
 int em7180_float_g_to_lsb(u32 bits, int *lsb);
-s32 em7180_float_to_q30(u32 bits);
+s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits);
 
 int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 			   bool write);

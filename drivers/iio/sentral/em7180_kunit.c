@@ -468,20 +468,37 @@ static void em7180_test_float_rounding(struct kunit *test)
 				    -ERANGE, "0x%08x", bad[i]);
 }
 
-static void em7180_test_float_q30(struct kunit *test)
+static void em7180_test_float_fixed(struct kunit *test)
 {
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x3F800000), 1 << 30);
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0xBF800000), -(1 << 30));
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x3F000000), 1 << 29);
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x3F7FFFFF), (1 << 30) - 64);
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x3F3504F3), 759250112);
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x00000000), 0);
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x80000000), 0);
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x30000000), 1);	/* 2^-31 */
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x2F800000), 0);	/* 2^-32 */
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x40000000), S32_MAX);
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0xFF800000), S32_MIN);
-	KUNIT_EXPECT_EQ(test, em7180_float_to_q30(0x7FC00000), 0);
+	/* Q30: the full precision of a float32 near 1 */
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x3F800000, 30), 1 << 30);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0xBF800000, 30), -(1 << 30));
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x3F000000, 30), 1 << 29);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x3F7FFFFF, 30), (1 << 30) - 64);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x3F3504F3, 30), 759250112);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x30000000, 30), 1);	/* 2^-31 */
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x2F800000, 30), 0);	/* 2^-32 */
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x40000000, 30), S32_MAX);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0xFF800000, 30), S32_MIN);
+
+	/* Q14, the driver's quaternion format */
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x3F800000, 14), 16384);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0xBF800000, 14), -16384);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x3F3504F3, 14), 11585);	/* 0.7071 */
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0xBF3504F3, 14), -11585);
+	/* 2^-15 is half an LSB: rounded away from zero */
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x38000000, 14), 1);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0xB8000000, 14), -1);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x37FFFFFF, 14), 0);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x46FFFE00, 14), 32767 << 14);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x47FFFFFF, 14), S32_MAX - 127);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x48000000, 14), S32_MAX);	/* 2^17 */
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0xC8000000, 14), S32_MIN);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x7F800000, 14), S32_MAX);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x00000000, 14), 0);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x80000000, 14), 0);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x00000001, 14), 0);
+	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x7FC00000, 14), 0);	/* NaN */
 }
 
 static void em7180_test_score(struct kunit *test)
@@ -519,12 +536,12 @@ static void em7180_test_warmstart_check(struct kunit *test)
 	KUNIT_ASSERT_NOT_NULL(test, blob);
 
 	for (size = 0; size <= 200; size++) {
-		int want = size == EM7180_WS_SIZE ? 0 : -EINVAL;
-
 		KUNIT_EXPECT_EQ_MSG(test, em7180_warmstart_check(blob, 0, size, true),
-				    want, "write of %zu bytes", size);
+				    size == EM7180_WS_SIZE ? 0 : -EINVAL,
+				    "write of %zu bytes", size);
 		KUNIT_EXPECT_EQ_MSG(test, em7180_warmstart_check(NULL, 0, size, false),
-				    want, "read of %zu bytes", size);
+				    size >= EM7180_WS_SIZE ? 0 : -EINVAL,
+				    "read of %zu bytes", size);
 	}
 
 	for (p = 1; p <= EM7180_WS_SIZE; p += 19) {
@@ -577,7 +594,7 @@ static struct kunit_case em7180_format_cases[] = {
 	KUNIT_CASE(em7180_test_float_table1),
 	KUNIT_CASE(em7180_test_float_lsb),
 	KUNIT_CASE(em7180_test_float_rounding),
-	KUNIT_CASE(em7180_test_float_q30),
+	KUNIT_CASE(em7180_test_float_fixed),
 	KUNIT_CASE(em7180_test_score),
 	KUNIT_CASE(em7180_test_warmstart_check),
 	{ }

@@ -88,6 +88,7 @@ static const struct regmap_access_table em7180_volatile_table = {
 
 static const struct regmap_range em7180_precious_ranges[] = {
 	regmap_reg_range(EM7180_REG_EVENT_STATUS, EM7180_REG_EVENT_STATUS),
+	regmap_reg_range(EM7180_REG_CAL_FLAGS, EM7180_REG_CAL_FLAGS),
 };
 
 static const struct regmap_access_table em7180_precious_table = {
@@ -346,7 +347,8 @@ static int em7180_read_quat(struct em7180_data *data, int *vals)
 
 	/* x, y, z, w: register order, which is also the ABI order */
 	for (i = 0; i < 4; i++)
-		vals[i] = em7180_float_to_q30(get_unaligned_le32(&raw[4 * i]));
+		vals[i] = em7180_float_to_fixed(get_unaligned_le32(&raw[4 * i]),
+						EM7180_QUAT_FRAC_BITS);
 
 	return IIO_VAL_INT_MULTIPLE;
 }
@@ -359,7 +361,7 @@ static int em7180_read_scale(const struct iio_chan_spec *chan, int *val,
 	switch (chan->type) {
 	case IIO_ROT:
 		*val = 1;
-		*val2 = 30;
+		*val2 = EM7180_QUAT_FRAC_BITS;
 		return IIO_VAL_FRACTIONAL_LOG2;
 	case IIO_ACCEL:
 		scale = em7180_accel_scale;
@@ -518,33 +520,44 @@ static ssize_t mag_transient_show(struct device *dev,
 			  FIELD_GET(EM7180_CAL_MAG_TRANSIENT_MASK, val));
 }
 
-static ssize_t gyro_bias_update_show(struct device *dev,
-				     struct device_attribute *attr, char *buf)
+/*
+ * The firmware may clear both update flags when 0x44 is read: keep what was
+ * seen until the attribute of each flag has reported it.
+ */
+static ssize_t em7180_cal_flag_show(struct device *dev, char *buf,
+				    unsigned int flag)
 {
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
 	unsigned int val;
+	bool set = false;
 	int ret;
 
-	ret = em7180_read_reg(data, EM7180_REG_CAL_FLAGS, &val);
+	mutex_lock(&data->lock);
+	ret = regmap_read(data->regmap, EM7180_REG_CAL_FLAGS, &val);
+	if (!ret) {
+		data->cal_flags |= val & (EM7180_CAL_FLAG_MAG_UPDATE |
+					  EM7180_CAL_FLAG_GBIAS_UPDATE);
+		set = data->cal_flags & flag;
+		data->cal_flags &= ~flag;
+	}
+	mutex_unlock(&data->lock);
 	if (ret)
 		return ret;
 
-	return sysfs_emit(buf, "%d\n", !!(val & EM7180_CAL_FLAG_GBIAS_UPDATE));
+	return sysfs_emit(buf, "%d\n", set);
+}
+
+static ssize_t gyro_bias_update_show(struct device *dev,
+				     struct device_attribute *attr, char *buf)
+{
+	return em7180_cal_flag_show(dev, buf, EM7180_CAL_FLAG_GBIAS_UPDATE);
 }
 
 static ssize_t mag_calibration_update_show(struct device *dev,
 					   struct device_attribute *attr,
 					   char *buf)
 {
-	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
-	unsigned int val;
-	int ret;
-
-	ret = em7180_read_reg(data, EM7180_REG_CAL_FLAGS, &val);
-	if (ret)
-		return ret;
-
-	return sysfs_emit(buf, "%d\n", !!(val & EM7180_CAL_FLAG_MAG_UPDATE));
+	return em7180_cal_flag_show(dev, buf, EM7180_CAL_FLAG_MAG_UPDATE);
 }
 
 /**
@@ -598,8 +611,9 @@ static IIO_DEVICE_ATTR_RO(mag_calibration_update, 0);
  * @count: size of the access
  * @write: true for a write, whose payload is checked as well
  *
- * Only whole-blob accesses are allowed, and a written blob must hold
- * 35 finite floats. Nothing here touches the chip.
+ * Only whole-blob accesses are allowed: a read must start at offset 0 with
+ * room for the whole blob, a write must be exactly the blob and hold 35
+ * finite floats. Nothing here touches the chip.
  *
  * Return: 0 or -EINVAL.
  */
@@ -608,14 +622,16 @@ int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 {
 	unsigned int i;
 
-	if (off || count != EM7180_WS_SIZE)
+	if (off || count < EM7180_WS_SIZE)
 		return -EINVAL;
+	if (!write)
+		return 0;
 
-	if (write) {
-		for (i = 0; i < EM7180_WS_SIZE; i += 4)
-			if (!em7180_float_is_finite(get_unaligned_le32(&buf[i])))
-				return -EINVAL;
-	}
+	if (count != EM7180_WS_SIZE)
+		return -EINVAL;
+	for (i = 0; i < EM7180_WS_SIZE; i += 4)
+		if (!em7180_float_is_finite(get_unaligned_le32(&buf[i])))
+			return -EINVAL;
 
 	return 0;
 }
@@ -631,6 +647,9 @@ static ssize_t warmstart_read(struct file *filp, struct kobject *kobj,
 	unsigned int i;
 	int ret;
 
+	if (off >= EM7180_WS_SIZE)
+		return 0;
+
 	ret = em7180_warmstart_check(buf, off, count, false);
 	if (ret)
 		return ret;
@@ -645,7 +664,8 @@ static ssize_t warmstart_read(struct file *filp, struct kobject *kobj,
 	if (!ret) {
 		for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 			put_unaligned_le32(vals[i], &buf[4 * i]);
-		data->ws_valid = !em7180_warmstart_check(buf, 0, count, true);
+		data->ws_valid = !em7180_warmstart_check(buf, 0,
+							 EM7180_WS_SIZE, true);
 		if (data->ws_valid)
 			memcpy(data->ws, buf, EM7180_WS_SIZE);
 	}
@@ -653,7 +673,7 @@ static ssize_t warmstart_read(struct file *filp, struct kobject *kobj,
 
 	iio_device_release_direct_mode(indio_dev);
 
-	return ret ?: count;
+	return ret ?: EM7180_WS_SIZE;
 }
 
 static ssize_t warmstart_write(struct file *filp, struct kobject *kobj,
@@ -691,7 +711,12 @@ static ssize_t warmstart_write(struct file *filp, struct kobject *kobj,
 	return ret ?: count;
 }
 
-static BIN_ATTR_ADMIN_RW(warmstart, EM7180_WS_SIZE);
+/*
+ * Declared with size 0 so that sysfs passes every access through as it is:
+ * with a size it would silently cut a longer write down to a valid-looking
+ * 140 bytes.
+ */
+static BIN_ATTR_ADMIN_RW(warmstart, 0);
 
 static struct attribute *em7180_attrs[] = {
 	&iio_dev_attr_calibration_status.dev_attr.attr,
@@ -722,7 +747,7 @@ static const struct iio_info em7180_info = {
 
 /*
  * Copy the enabled channels out of one burst that spans them, in scan
- * order; the quaternion floats become Q30 on the way.
+ * order; the quaternion floats become fixed point on the way.
  */
 static irqreturn_t em7180_trigger_handler(int irq, void *p)
 {
@@ -761,7 +786,8 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 				continue;
 			}
 			for (i = 0; i < 4; i++) {
-				q = em7180_float_to_q30(get_unaligned_le32(&src[4 * i]));
+				q = em7180_float_to_fixed(get_unaligned_le32(&src[4 * i]),
+							  EM7180_QUAT_FRAC_BITS);
 				memcpy(&data->scan[pos], &q, sizeof(q));
 				pos += sizeof(q);
 			}

@@ -147,16 +147,17 @@ int em7180_float_g_to_lsb(u32 bits, int *lsb)
 EXPORT_SYMBOL_IF_KUNIT(em7180_float_g_to_lsb);
 
 /**
- * em7180_float_to_q30() - float32 to signed fixed point with 30 fraction bits
+ * em7180_float_to_fixed() - float32 to signed fixed point
  * @bits: IEEE-754 single precision bit pattern
+ * @frac_bits: number of fraction bits of the result, 0..30
  *
  * Used for the quaternion components, whose magnitude is at most 1.
- * Rounds to nearest, halves away from zero; saturates at ±2, which also
- * covers ±Inf; NaN gives 0.
+ * Rounds to nearest, halves away from zero; saturates to the s32 range,
+ * which also covers ±Inf; NaN gives 0.
  *
- * Return: round(value * 2^30), saturated to the s32 range.
+ * Return: round(value * 2^frac_bits), saturated.
  */
-s32 em7180_float_to_q30(u32 bits)
+s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits)
 {
 	int e = (bits & EM7180_F32_EXP_MASK) >> EM7180_F32_FRAC_BITS;
 	bool neg = bits & EM7180_F32_SIGN;
@@ -166,14 +167,15 @@ s32 em7180_float_to_q30(u32 bits)
 
 	if (e == 0xff && mant)
 		return 0;
-	/* value * 2^30 = mant * 2^(e - 120) with the hidden bit in mant */
-	if (e >= 128)
+	/* |value| >= 2^(31 - frac_bits) does not fit */
+	if (e >= EM7180_F32_BIAS + 31 - (int)frac_bits)
 		return neg ? S32_MIN : S32_MAX;
 	if (!e)
-		return 0;	/* below 2^-126, far under 2^-30 */
+		return 0;	/* below 2^-126 */
 
+	/* value * 2^frac_bits = mant * 2^-shift with the hidden bit in mant */
 	mant |= BIT(EM7180_F32_FRAC_BITS);
-	shift = 120 - e;
+	shift = EM7180_F32_BIAS + EM7180_F32_FRAC_BITS - (int)frac_bits - e;
 	if (shift <= 0)
 		val = mant << -shift;
 	else if (shift > 25)
@@ -183,7 +185,7 @@ s32 em7180_float_to_q30(u32 bits)
 
 	return neg ? -(s32)val : (s32)val;
 }
-EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_q30);
+EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
 
 /**
  * em7180_param_init() - set the initial parameter acknowledge estimate
