@@ -180,6 +180,8 @@ static int accel_measure(struct sw_backend *b, unsigned int n,
 
 /* Seed: more than this and the device was moving or not resting flat. */
 #define ACCEL_MAX_SD_LSB 20.0
+/* Output periods at the slowest accelerometer rate (10 Hz) and then some. */
+#define ACCEL_SETTLE_MS 250
 /* An offset above a quarter g means Z is not facing down. */
 #define ACCEL_MAX_OFFSET_LSB 512
 
@@ -228,7 +230,12 @@ int sw_cmd_accel_cal(struct sw_backend *b, const struct sw_opts *o,
 				  back[0], back[1], back[2], off[0], off[1],
 				  off[2]);
 
-	/* Seed step 7: the output should now be (close to) 0, 0, 2048. */
+	/*
+	 * Seed step 7: the output should now be (close to) 0, 0, 2048. The
+	 * data registers still hold samples taken before the write: let a
+	 * few output periods pass first.
+	 */
+	env->sleep_ms(env->clk, ACCEL_SETTLE_MS);
 	ret = accel_measure(b, o->samples, env, &after, e);
 	if (ret)
 		return ret;

@@ -1,0 +1,71 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# Runs on the HOST: three boots of the UML machine sharing one state
+# directory (tests/uml/run --udev --state DIR), like reboots of a real
+# machine:
+#   1. calibrate (simulated motion) and save;
+#   2. udev restores at probe: calibration_status is 3 without any motion
+#      and the chip's blob equals the saved payload;
+#   3. with the file corrupted, the restore at probe is refused, the message
+#      is in the kernel log and the chip is left alone.
+# The host script calls itself inside the machine with the boot's name.
+set -u
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+
+if [ "${1:-}" = --inside ]; then
+	. "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
+	DEV=$(em7180_dir)
+	ok "em7180 probed" test -n "$DEV"
+	key=$(sentral-warmstart status --json | json_field key)
+	f=$STATE/$key.ws
+	case $2 in
+	first)
+		like "first boot: nothing to restore" "$(dmesg)" "no saved calibration"
+		is "not calibrated" "$(cal_status)" 0
+		ok "simulated figure-8 until calibrated" calibrate_by_motion
+		ok "save" sentral-warmstart save
+		ok "file saved" test -f "$f"
+		;;
+	second)
+		like "restored at probe by udev" "$(dmesg)" "restored iio:device[0-9]+ calibration from $f"
+		is "calibration_status 3 without motion" "$(cal_status)" 3
+		is "motion never set this boot" "$(cat "$SIM_DBG/motion")" 0
+		is "the chip's blob equals the saved payload" \
+			"$(blob_words <"$DEV/warmstart")" "$(file_payload_words "$f")"
+		;;
+	third)
+		like "refused at probe, logged with the check" "$(dmesg)" \
+			"error: $f: refused: bad CRC"
+		is "chip untouched: not calibrated" "$(cal_status)" 0
+		ok "chip untouched: magnetic coefficients are not the file's" \
+			test "$(words 18 23 "$(sim_ws_params)")" != \
+			"$(words 18 23 "$(file_payload_words "$f")")"
+		;;
+	esac
+	done_testing
+	exit
+fi
+
+kver=${SENTRAL_KVER:-6.12}
+state=$(mktemp -d "${TMPDIR:-/tmp}/sentral-boot.XXXXXX")
+trap 'rm -rf "$state"' EXIT
+chmod 0700 "$state"
+run() {
+	"$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --state "$state" -- \
+		"$SENTRAL_ROOT/tests/e2e/boot-warmstart.sh" --inside "$1" |
+		sed 's/^/    /'
+	return "${PIPESTATUS[0]}"
+}
+
+ok "boot 1: calibrate and save" run first
+n=$(ls "$state"/*.ws 2>/dev/null | wc -l)
+is "one saved file on the host" "$n" 1
+ok "boot 2: restored at probe" run second
+f=$(ls "$state"/*.ws | head -n1)
+# Flip one bit of a parameter byte: only the CRC can tell.
+b=$(od -An -tu1 -j 100 -N1 "$f" | tr -d ' ')
+printf "$(printf '\\%03o' $((b ^ 0x10)))" |
+	dd of="$f" bs=1 seek=100 count=1 conv=notrunc status=none
+ok "boot 3: corrupted file refused" run third
+done_testing

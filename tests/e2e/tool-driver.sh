@@ -1,0 +1,140 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# sentral-warmstart against the em7180 driver on the simulated chip: status,
+# save policy, guided calibration, save, restore after a power cycle, every
+# refusal of a bad file with the chip untouched, accel-cal (the seed's
+# Table 1 offsets -47, -15, +46), device selection, symlinks.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
+
+DEV=$(em7180_dir)
+ok "an em7180 IIO device is present" test -n "$DEV"
+client=$(basename "$(dirname "$(readlink -f "$DEV")")")
+bus=$(sim_bus)
+
+out=$(sentral-warmstart status 2>&1)
+is "status exits 0" $? 0
+like "status names the chip" "$out" "ProductID 0x80, RevisionID 0x02"
+json=$(sentral-warmstart status --json)
+like "status --json" "$json" '^\{"device":"iio:device[0-9]+","backend":"driver",.*"product_id":128,"revision_id":2,'
+key=$(echo "$json" | json_field key)
+is "without udev the key is the I2C client name" "$key" "$client"
+f=$STATE/$key.ws
+
+# The save policy: nothing worth saving yet.
+out=$(sentral-warmstart save 2>&1)
+is "save before calibration: exit 4" $? 4
+like "and says why" "$out" "calibration incomplete"
+nok "no file written" test -e "$f"
+
+# (e) accel-cal: the simulator's default bias is the seed's Table 1.
+out=$(sentral-warmstart accel-cal --samples 32 2>&1)
+is "accel-cal exits 0" $? 0
+echo "$out" | sed 's/^/# /'
+is "calibbias x y z" "$(cat "$DEV"/in_accel_{x,y,z}_calibbias | tr '\n' ' ')" "-47 -15 46 "
+is "parameters 27..29 are Table 1 bit for bit" \
+	"$(sim_param 27) $(sim_param 28) $(sim_param 29)" "$TABLE1"
+like "output now 0 0 2048 within noise" "$out" \
+	'output now -?[0-9]\.[0-9] -?[0-9]\.[0-9] 20[45][0-9]\.[0-9] LSB'
+
+# Guided calibration: still (gyro bias), then figure-8 (simulated motion).
+knob gbias_period_ms 200
+knob cal_duration_ms 1500
+(sleep 1; knob motion 1) &
+out=$(sentral-warmstart calibrate --timeout 30 2>&1)
+rc=$?
+wait
+knob motion 0
+is "calibrate exits 0" $rc 0
+echo "$out" | sed 's/^/# /'
+like "it waited for the gyro bias" "$out" "Gyro bias learned"
+like "plain progress lines (no terminal)" "$out" "calibrate: status 3/3, score [0-9.]+%"
+like "and saved" "$out" "saved iio:device[0-9]+ calibration to $f"
+ok "file exists" test -f "$f"
+is "file mode 0600" "$(stat -c %a "$f")" 600
+is "state dir mode 0700" "$(stat -c %a "$STATE")" 700
+is "no temporary file left" "$(ls -A "$STATE" | wc -l)" 1
+ok "show accepts it" sentral-warmstart show "$f"
+like "show names the parameters" "$(sentral-warmstart show "$f")" "18  mcoeffs\[1\]"
+payload=$(file_payload_words "$f")
+is "saved magnetic coefficients equal the chip's" \
+	"$(words 18 23 "$payload")" "$(words 18 23 "$(sim_ws_params)")"
+is "saved accel offsets are Table 1" "$(words 27 29 "$payload")" "$TABLE1 "
+
+# Restore after a power cycle: calibrated at once, without motion.
+knob gbias_period_ms 600000
+ok "replug: unbind, power cycle, bind" replug "$client"
+DEV=$(em7180_dir)
+is "power cycle lost the calibration" "$(cal_status)" 0
+out=$(sentral-warmstart restore 2>&1)
+is "restore exits 0" $? 0
+like "restore reports status 3" "$out" "restored .* status 3"
+is "calibration_status 3 without motion" "$(cal_status)" 3
+is "chip parameters 1..35 equal the saved payload" "$(sim_ws_params)" "$payload"
+is "chip blob via sysfs equals the saved payload" \
+	"$(blob_words <"$DEV/warmstart")" "$payload"
+is "transfer mode ended" "$(dbg_get state transfer)" 0
+is "algorithm running" "$(dbg_get state running)" 1
+
+# Bad files are refused, naming the check, and the chip is not touched.
+check_refused() {
+	local what=$1 file=$2 before out rc
+	before=$(dbg_get stats params_served)
+	out=$(sentral-warmstart restore --file "$file" 2>&1)
+	rc=$?
+	is "$what: exit 3" $rc 3
+	like "$what: message names the check" "$out" "refused: $what"
+	is "$what: no parameter transferred" "$(dbg_get stats params_served)" "$before"
+}
+cp "$f" /tmp/bad.ws && flip_byte /tmp/bad.ws 0
+check_refused "wrong magic" /tmp/bad.ws
+cp "$f" /tmp/bad.ws && flip_byte /tmp/bad.ws 8
+check_refused "unknown version" /tmp/bad.ws
+cp "$f" /tmp/bad.ws && flip_byte /tmp/bad.ws 100
+check_refused "bad CRC" /tmp/bad.ws
+head -c 100 "$f" >/tmp/bad.ws
+check_refused "truncated" /tmp/bad.ws
+cp "$f" /tmp/bad.ws && flip_byte /tmp/bad.ws 28
+check_refused "payload size" /tmp/bad.ws
+# A NaN with a valid CRC, built with the tool's own layout.
+python3 - "$f" /tmp/bad.ws <<'EOF' && check_refused "non-finite float" /tmp/bad.ws
+import sys, zlib, struct
+b = bytearray(open(sys.argv[1], 'rb').read())
+b[32 + 4 * 19:32 + 4 * 20] = struct.pack('<I', 0x7fc00000)
+b[172:176] = struct.pack('<I', zlib.crc32(bytes(b[:172])))
+open(sys.argv[2], 'wb').write(b)
+EOF
+ram=$(cat "$SIM_DBG/ram_version")
+knob ram_version 0x0bad
+check_refused "RAM version mismatch" "$f"
+out=$(sentral-warmstart restore --force 2>&1)
+is "--force restores across a RAM version change" $? 0
+knob ram_version "$ram"
+out=$(sentral-warmstart restore --file /tmp/missing.ws 2>&1)
+is "missing file: exit 3" $? 3
+ok "missing file with --if-present: exit 0" sentral-warmstart restore --if-present --file /tmp/missing.ws
+
+# Never through a symlink.
+ln -s /tmp/victim.ws "$STATE/link.ws"
+out=$(sentral-warmstart save --force --file "$STATE/link.ws" 2>&1)
+is "save through a symlink refused: exit 3" $? 3
+nok "symlink target not created" test -e /tmp/victim.ws
+rm -f "$STATE/link.ws"
+
+# The policy keeps a good file: same score saves, a forced save works.
+ok "save again at the same score" sentral-warmstart save
+ok "save --force" sentral-warmstart save --force
+
+# Device selection.
+ok "--device by IIO name" sentral-warmstart --device "$(basename "$DEV")" status
+ok "--device by client name" sentral-warmstart --device "$client" status
+out=$(sentral-warmstart --device iio:device99 status 2>&1)
+is "--device unknown: exit 2" $? 2
+out=$(sentral-warmstart --i2c /dev/i2c-"$bus" status 2>&1)
+is "--i2c with the driver bound: exit 2" $? 2
+like "and says so politely" "$out" "a kernel driver is bound to $client"
+out=$(sentral-warmstart bogus 2>&1)
+is "usage error: exit 1" $? 1
+
+done_testing

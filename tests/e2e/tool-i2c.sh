@@ -1,0 +1,101 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# sentral-warmstart's i2c-dev backend with the em7180 driver unbound: the
+# polite refusal while it is bound, calibrate and save over i2c-dev, a power
+# cycle, restore, the chip's parameters equal to the file, transfer mode
+# ended on every path (acknowledge never comes, NACK), accel-cal writing
+# parameters 27..29 as the seed's Table 1 floats.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
+
+DEV=$(em7180_dir)
+ok "the driver is bound at first" test -n "$DEV"
+client=$(basename "$(dirname "$(readlink -f "$DEV")")")
+bus=$(sim_bus)
+i2c="--i2c /dev/i2c-$bus"
+
+out=$(sentral-warmstart $i2c status 2>&1)
+is "refused while the driver is bound: exit 2" $? 2
+like "naming the client and the way out" "$out" \
+	"a kernel driver is bound to $client .*unbind.*--force"
+ok "--force overrides (status only reads)" sentral-warmstart $i2c --force status
+
+ok "unbind the driver" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/unbind"
+nok "no em7180 IIO device any more" em7180_dir
+out=$(sentral-warmstart status 2>&1)
+is "driver backend without a device: exit 2" $? 2
+like "and says to use --i2c" "$out" "no em7180 IIO device found.*--i2c"
+
+json=$(sentral-warmstart $i2c status --json)
+is "status over i2c-dev: exit 0" $? 0
+like "reads the identity" "$json" '"backend":"i2c",.*"product_id":128,"revision_id":2,'
+is "key is the client name" "$(echo "$json" | json_field key)" "$client"
+out=$(sentral-warmstart $i2c --address 0x29 status 2>&1)
+is "nothing at 0x29: exit 2" $? 2
+
+# The driver left the chip running; calibrate over i2c-dev.
+knob gbias_period_ms 200
+knob cal_duration_ms 1500
+(sleep 1; knob motion 1) &
+out=$(sentral-warmstart $i2c calibrate --timeout 30 --file /tmp/i2c.ws 2>&1)
+rc=$?
+wait
+knob motion 0
+is "calibrate over i2c-dev: exit 0" $rc 0
+echo "$out" | sed 's/^/# /'
+is "transfer mode ended" "$(dbg_get state transfer)" 0
+is "algorithm running" "$(dbg_get state running)" 1
+ok "the file is valid" sentral-warmstart show /tmp/i2c.ws
+
+knob gbias_period_ms 600000
+ok "save --force over i2c-dev" sentral-warmstart $i2c save --force --file /tmp/i2c.ws
+payload=$(file_payload_words /tmp/i2c.ws)
+is "saved payload equals the chip's parameters 1..35" "$payload" "$(sim_ws_params)"
+
+# Power cycle: the chip forgets; a host starts it again; restore.
+knob power_cycle 1
+ok "chip back after the power cycle" wait_for 5 sim_ready
+ok "start it (rates, run)" chip_run "$bus"
+is "calibration lost" "$(dbg_get state cal_status)" 0
+knob stats 0
+out=$(sentral-warmstart $i2c restore --file /tmp/i2c.ws 2>&1)
+is "restore over i2c-dev: exit 0" $? 0
+echo "$out" | sed 's/^/# /'
+is "calibration complete at once" "$(dbg_get state cal_status)" 3
+is "chip parameters 1..35 equal the file" "$(sim_ws_params)" "$payload"
+is "transfer mode ended" "$(dbg_get state transfer)" 0
+is "AlgorithmControl bit 7 clear" "$(i2ctransfer -f -y "$bus" w1@0x28 0x54 r1)" 0x00
+echo "# restore over i2c-dev, whole command: $(tr '\n' ' ' <"$SIM_DBG/stats")"
+
+# (d) round trip: the file read back from the chip equals what was written.
+ok "save --force after restore" sentral-warmstart $i2c save --force --file /tmp/i2c2.ws
+is "round trip payload identical" "$(file_payload_words /tmp/i2c2.ws)" "$payload"
+
+# accel-cal over i2c-dev: parameters 27..29 as float g, Table 1 exactly.
+out=$(sentral-warmstart $i2c accel-cal --samples 32 2>&1)
+is "accel-cal over i2c-dev: exit 0" $? 0
+echo "$out" | sed 's/^/# /'
+is "parameters 27..29 are Table 1 bit for bit" \
+	"$(sim_param 27) $(sim_param 28) $(sim_param 29)" "$TABLE1"
+
+# Faults: the transfer is always ended.
+knob ack_never 1
+out=$(sentral-warmstart $i2c save --force --file /tmp/x.ws 2>&1)
+is "acknowledge never comes: exit 5" $? 5
+like "says which parameter" "$out" "parameter 1 not acknowledged"
+is "transfer mode ended anyway" "$(dbg_get state transfer)" 0
+is "algorithm running" "$(dbg_get state running)" 1
+nok "no file written" test -e /tmp/x.ws
+knob ack_never 0
+knob nack_at 12
+out=$(sentral-warmstart $i2c restore --file /tmp/i2c.ws 2>&1)
+is "NACK in the middle of a restore: exit 5" $? 5
+knob nack_at 0
+is "transfer mode ended after the NACK" "$(dbg_get state transfer)" 0
+ok "and the next restore works" sentral-warmstart $i2c restore --file /tmp/i2c.ws
+
+ok "bind the driver again" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
+ok "the driver backend sees it" wait_for 5 em7180_dir
+
+done_testing

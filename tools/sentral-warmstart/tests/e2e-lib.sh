@@ -1,0 +1,133 @@
+# SPDX-License-Identifier: GPL-2.0-only
+# Helpers for the sentral-warmstart end-to-end tests (tests/e2e/tool-*.sh,
+# tests/e2e/boot-*.sh), sourced inside tests/uml/run after tests/lib/tap.sh.
+
+SIM_DBG=/sys/kernel/debug/sentral-sim
+SIM_KO=$SENTRAL_MODDIR/drivers/misc/sentral-sim/sentral_sim.ko
+STATE=/var/lib/sentral-warmstart
+# Table 1 of the seed app note: -47, -15, +46 LSB as float g.
+TABLE1="0xbcbbe447 0xbbefdc9c 0x3cb7e4de"
+
+knob() {
+	echo "$2" >"$SIM_DBG/$1"
+}
+
+# The value of KEY in a debugfs file of "key value" lines.
+dbg_get() {
+	awk -v k="$2" '$1 == k { print $2 }' "$SIM_DBG/$1"
+}
+
+# Wait up to SECONDS for COMMAND to succeed.
+wait_for() {
+	local end=$(($(date +%s%N) / 1000000 + $1 * 1000))
+	shift
+	until "$@"; do
+		[ $(($(date +%s%N) / 1000000)) -ge $end ] && return 1
+		sleep 0.05
+	done
+}
+
+# The em7180 IIO device directory.
+em7180_dir() {
+	local d
+	for d in /sys/bus/iio/devices/iio:device*; do
+		[ "$(cat "$d/name" 2>/dev/null)" = em7180 ] || continue
+		echo "$d"
+		return 0
+	done
+	return 1
+}
+
+# The I2C bus number of the simulator's adapter.
+sim_bus() {
+	local d
+	for d in /sys/bus/i2c/devices/i2c-*; do
+		[ "$(cat "$d/name" 2>/dev/null)" = sentral-sim ] || continue
+		echo "${d##*/i2c-}"
+		return 0
+	done
+	return 1
+}
+
+sim_ready() {
+	grep -qx 'uploading 0' "$SIM_DBG/state"
+}
+
+# The 35 warm-start parameters the simulated chip holds, "0x%08x ...".
+sim_ws_params() {
+	awk '$1 >= 1 && $1 <= 35 { printf "%s ", $2 }' "$SIM_DBG/params"
+}
+
+sim_param() {
+	dbg_get params "$1"
+}
+
+# 140 bytes on stdin as 35 little-endian words, "0x%08x ..." (the host and
+# UML are little-endian, so od's native order is the chip's).
+blob_words() {
+	od -An -v -tx4 -w4 | awk '{ printf "0x%s ", $1 }'
+}
+
+file_payload_words() {
+	dd if="$1" bs=1 skip=32 count=140 status=none | blob_words
+}
+
+# Words FIRST..LAST (1-based) of a word list.
+words() {
+	echo "$3" | awk -v a="$1" -v b="$2" '{ for (i = a; i <= b; i++) printf "%s ", $i }'
+}
+
+# Flip one bit of FILE at OFFSET, in place.
+flip_byte() {
+	local b
+	b=$(od -An -tu1 -j "$2" -N1 "$1" | tr -d ' ')
+	printf "$(printf '\\%03o' $((b ^ 0x10)))" |
+		dd of="$1" bs=1 seek="$2" count=1 conv=notrunc status=none
+}
+
+# "key" from status --json.
+json_field() {
+	sed -n "s/.*\"$1\":\"\\([^\"]*\\)\".*/\\1/p"
+}
+
+cal_status() {
+	cat "$(em7180_dir)/calibration_status"
+}
+
+# Complete with a score of 3% or better.
+calibrated_good() {
+	local d
+	d=$(em7180_dir) || return 1
+	[ "$(cat "$d/calibration_status")" = 3 ] &&
+		awk '{ exit !($1 <= 3.0) }' "$d/calibration_score"
+}
+
+# Simulated figure-8 motion until calibrated, then still again.
+calibrate_by_motion() {
+	local rc
+	knob cal_duration_ms 1000
+	knob motion 1
+	wait_for 30 calibrated_good
+	rc=$?
+	knob motion 0
+	return $rc
+}
+
+# Unbind the driver, power-cycle the chip (RAM state lost, as at power-off)
+# and bind again: a reboot as far as the chip and the driver can tell.
+replug() {
+	local client=$1
+	echo "$client" >/sys/bus/i2c/drivers/em7180/unbind || return 1
+	knob power_cycle 1 || return 1
+	wait_for 5 sim_ready || return 1
+	echo "$client" >/sys/bus/i2c/drivers/em7180/bind || return 1
+	wait_for 5 em7180_dir >/dev/null
+}
+
+# Start the chip by hand the way a host does (rates, then run), for tests
+# with no driver bound.
+chip_run() {
+	local bus=$1
+	i2ctransfer -f -y "$bus" w4@0x28 0x55 0x1e 0x0a 0x0a &&
+		i2ctransfer -f -y "$bus" w2@0x28 0x34 0x01
+}
