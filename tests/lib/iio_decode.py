@@ -6,7 +6,9 @@ the device describes in scan_elements/, and print one line per scan.
 usage: iio_decode.py DEVICE_DIR [FILE] [--raw] [--csv]
 
 DEVICE_DIR is /sys/bus/iio/devices/iio:deviceN.  FILE defaults to stdin.
-Values are multiplied by the channel's _scale attribute unless --raw.
+The enabled channels describe the layout; when none is enabled (iio_readdev
+disables them as it exits), all of them.  Values are multiplied by the
+channel's _scale attribute unless --raw.
 Exit status 1 when the input is not a whole number of scans.
 """
 import os
@@ -24,10 +26,12 @@ def read(path):
 
 def channels(dev):
     scan = os.path.join(dev, 'scan_elements')
+    names = [n for n in os.listdir(scan) if n.endswith('_en')]
+    enabled = [n for n in names if read(os.path.join(scan, n)) == '1']
     chans = []
-    for name in os.listdir(scan):
-        if not name.endswith('_en') or read(os.path.join(scan, name)) != '1':
-            continue
+    # iio_readdev enables every channel when given none, and disables them
+    # again when it exits: with none enabled, decode as if all were.
+    for name in enabled or names:
         base = name[:-3]
         m = TYPE_RE.match(read(os.path.join(scan, base + '_type')))
         if not m:
