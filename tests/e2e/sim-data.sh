@@ -1,0 +1,128 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+# uml-args: --no-modules
+#
+# Sensor data of the simulated EM7180: accel gravity + bias and the seed's
+# Table 1 offsets, gyro bias + noise, mag field, quaternion, timestamps
+# counting samples, EventStatus bits for enabled events, sample accounting.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tests/sim/testlib.sh"
+
+sim_load
+is "load the simulator" $? 0
+is "data registers are 0 before the first sample" "$(sim_rd 0x1a 6)" \
+	"0x00 0x00 0x00 0x00 0x00 0x00"
+
+ok "accel 100 Hz, gyro 100 Hz, mag 10 Hz, quaternion divisor 1" \
+	sim_wr 0x55 0x0a 0x0a 0x0a
+ok "QRateDivisor 1" sim_wr 0x32 0x01
+ok "EnableEvents: accel only" sim_wr 0x33 0x10
+ok "clear CPUReset" sim_rd 0x35
+knob samples 0
+ok "run" sim_wr 0x34 0x01
+sleep 0.5
+ok "stop" sim_wr 0x34 0x00
+is "EventStatus: accel event only (gyro not enabled)" "$(sim_rd 0x35)" 0x10
+
+accel=$(dbg_get samples accel)
+gyro=$(dbg_get samples gyro)
+quat=$(dbg_get samples quaternion)
+mag=$(dbg_get samples mag)
+like "about 50 accel samples in 0.5 s" "$accel" '^(3[5-9]|[4-5][0-9]|6[0-5])$'
+is "quaternion every second gyro sample" "$quat" $((gyro / 2))
+is "accel samples never read: all but the last missed" \
+	"$(dbg_get samples accel_missed)" $((accel - 1))
+
+set -- $(sim_rd 0x1a 8)
+is "accel = gravity (0, 0, 2048) + bias (-47, -15, 46)" \
+	"$(s16 $1 $2) $(s16 $3 $4) $(s16 $5 $6)" "-47 -15 2094"
+is "ATIME = floor(n * 32768 / 100) mod 65536" "$(s16 $7 $8)" \
+	"$(( (accel * 32768 / 100) & 0xffff ))"
+is "reading the accel block counts as read" "$(dbg_get samples accel_read)" 1
+
+set -- $(sim_rd 0x00 18)
+is "quaternion identity x, y, z = 0, w = 1.0f (w last)" "$*" \
+	"0x00 0x00 0x00 0x00 0x00 0x00 0x00 0x00 0x00 0x00 0x00 0x00 0x00 0x00 0x80 0x3f ${17} ${18}"
+is "QTIME at half the gyro rate" $(( ${17} | ${18} << 8 )) \
+	"$(( (quat * 32768 * 2 / 100) & 0xffff ))"
+
+set -- $(sim_rd 0x12 8)
+is "mag = true field through the uncalibrated model" \
+	"$(s16 $1 $2) $(s16 $3 $4) $(s16 $5 $6)" "1547 -410 2863"
+is "MTIME" $(( $7 | $8 << 8 )) "$(( (mag * 32768 / 10) & 0xffff ))"
+
+set -- $(sim_rd 0x22 8)
+gx=$(s16 $1 $2) gy=$(s16 $3 $4) gz=$(s16 $5 $6)
+like "gyro x = bias 12 + noise" "$gx" '^(1[0-4])$'
+like "gyro y = bias -7 + noise" "$gy" '^-([5-9])$'
+like "gyro z = bias 5 + noise" "$gz" '^[3-7]$'
+is "GTIME" $(( $7 | $8 << 8 )) "$(( (gyro * 32768 / 100) & 0xffff ))"
+
+# Table 1 of the application note: offsets in params 27..29 as float g.
+ok "begin parameter transfer" param_begin
+ok "param 27 = -0.022936 g (BC BB E4 47)" param_write 27 0xbcbbe447
+ok "param 28 = -0.00732 g (BB EF DC 9C)" param_write 28 0xbbefdc9c
+ok "param 29 = 0.022448 g (3C B7 E4 DE)" param_write 29 0x3cb7e4de
+ok "end parameter transfer" param_end
+ok "run" sim_wr 0x34 0x01
+sleep 0.1
+set -- $(sim_rd 0x1a 6)
+is "accel with Table 1 offsets = 0, 0, 2048" \
+	"$(s16 $1 $2) $(s16 $3 $4) $(s16 $5 $6)" "0 0 2048"
+
+ok "accel_bias knob" knob accel_bias "100 -200 0"
+is "accel_bias reads back" "$(cat "$SIM_DBG/accel_bias")" "100 -200 0"
+nok "accel_bias refuses two values" knob accel_bias "1 2"
+sleep 0.1
+set -- $(sim_rd 0x1a 6)
+is "accel follows the bias minus the offsets" \
+	"$(s16 $1 $2) $(s16 $3 $4) $(s16 $5 $6)" "147 -185 2002"
+
+# The algorithm pauses during a parameter transfer: no samples.
+ok "begin parameter transfer" param_begin
+before=$(dbg_get samples accel)
+sleep 0.2
+is "no accel samples while in transfer mode" "$(dbg_get samples accel)" "$before"
+ok "end parameter transfer" param_end
+sleep 0.1
+ok "samples counted again after the transfer" [ "$(dbg_get samples accel)" -gt "$before" ]
+
+# 1 kHz accel + gyro. A late timer (loaded host) produces one sample per
+# stream per callback and skips the ticks it missed: fewer samples, never a
+# burst, so never more samples than milliseconds elapsed.
+knob samples 0
+t0=$(date +%s%N)
+ok "accel and gyro 1000 Hz" sim_wr 0x56 0x64 0x64
+sleep 1
+ok "stop" sim_wr 0x34 0x00
+ms=$((($(date +%s%N) - t0) / 1000000))
+n=$(dbg_get samples accel) late=$(dbg_get samples timer_late)
+ok "$n accel samples in $ms ms: no more than one per ms" [ "$n" -le $((ms + 1)) ]
+ok "at least half the nominal rate" [ "$n" -ge 500 ]
+ok "accel and gyro produced together" [ "$(dbg_get samples gyro)" = "$n" ]
+echo "# 1 kHz for $ms ms: $n accel samples, $late late timer callbacks"
+
+# INT pin: high while an enabled event is pending, cleared by reading
+# EventStatus; the irq_sim line gets one rising edge per low-to-high change.
+ok "accel 100 Hz, EnableEvents accel" sim_wr 0x56 0x0a 0x0a
+ok "EnableEvents accel" sim_wr 0x33 0x10
+ok "clear EventStatus" sim_rd 0x35
+irq0=$(dbg_get state irqs)
+ok "run" sim_wr 0x34 0x01
+sleep 0.2
+ok "stop" sim_wr 0x34 0x00
+is "one edge while EventStatus is never read" "$(dbg_get state irqs)" $((irq0 + 1))
+is "INT still high" "$(dbg_get state int)" 1
+ok "read EventStatus" sim_rd 0x35
+is "INT low after reading EventStatus" "$(dbg_get state int)" 0
+ok "run" sim_wr 0x34 0x01
+for i in 1 2 3 4 5; do
+	sleep 0.05
+	sim_rd 0x35 >/dev/null
+done
+sleep 0.05
+ok "stop" sim_wr 0x34 0x00
+is "one edge per EventStatus read followed by a sample" \
+	"$(dbg_get state irqs)" $((irq0 + 7))
+ok "unload" sim_unload
+done_testing

@@ -1,0 +1,230 @@
+/* SPDX-License-Identifier: GPL-2.0 */
+/*
+ * Simulated PNI SENtral / EM Microelectronic EM7180 sensor-fusion hub.
+ *
+ * Shared definitions of the model (sim-model.c), the float32 helpers
+ * (sim-float.c), the debugfs knobs (sim-debugfs.c) and the virtual I2C
+ * adapter (sim-main.c).
+ */
+#ifndef SENTRAL_SIM_H
+#define SENTRAL_SIM_H
+
+#include <linux/hrtimer.h>
+#include <linux/i2c.h>
+#include <linux/ktime.h>
+#include <linux/spinlock.h>
+#include <linux/types.h>
+
+#define SIM_I2C_ADDR		0x28
+
+/* Register addresses, EM7180 register reference §1 */
+#define SIM_REG_QX		0x00
+#define SIM_REG_QTIME		0x10
+#define SIM_REG_MX		0x12
+#define SIM_REG_MTIME		0x18
+#define SIM_REG_AX		0x1a
+#define SIM_REG_ATIME		0x20
+#define SIM_REG_GX		0x22
+#define SIM_REG_GTIME		0x28
+#define SIM_REG_QRATE_DIVISOR	0x32
+#define SIM_REG_ENABLE_EVENTS	0x33
+#define SIM_REG_HOST_CONTROL	0x34
+#define SIM_REG_EVENT_STATUS	0x35
+#define SIM_REG_SENTRAL_STATUS	0x37
+#define SIM_REG_ALGO_STATUS	0x38
+#define SIM_REG_PARAM_ACK	0x3a
+#define SIM_REG_SAVED_PARAM0	0x3b
+#define SIM_REG_SAVED_PARAM3	0x3e
+#define SIM_REG_CAL_STATUS	0x43
+#define SIM_REG_CAL_FLAGS	0x44
+#define SIM_REG_ACTUAL_MAG	0x45
+#define SIM_REG_ACTUAL_ACCEL	0x46
+#define SIM_REG_ACTUAL_GYRO	0x47
+#define SIM_REG_CAL_SCORE_LSB	0x4d
+#define SIM_REG_CAL_SCORE_MSB	0x4e
+#define SIM_REG_ALGO_CONTROL	0x54
+#define SIM_REG_MAG_RATE	0x55
+#define SIM_REG_ACCEL_RATE	0x56
+#define SIM_REG_GYRO_RATE	0x57
+#define SIM_REG_LOAD_PARAM0	0x60
+#define SIM_REG_LOAD_PARAM3	0x63
+#define SIM_REG_PARAM_REQUEST	0x64
+#define SIM_REG_ROM_VERSION	0x70
+#define SIM_REG_RAM_VERSION	0x72
+#define SIM_REG_PRODUCT_ID	0x90
+#define SIM_REG_REVISION_ID	0x91
+#define SIM_REG_RUN_STATUS	0x92
+#define SIM_REG_RESET_REQUEST	0x9b
+#define SIM_REG_PASSTHRU_STATUS	0x9e
+#define SIM_REG_PASSTHRU_CTRL	0xa0
+
+#define SIM_EV_CPU_RESET	BIT(0)
+#define SIM_EV_QUATERNION	BIT(2)
+#define SIM_EV_MAG		BIT(3)
+#define SIM_EV_ACCEL		BIT(4)
+#define SIM_EV_GYRO		BIT(5)
+
+#define SIM_HOST_RUN		BIT(0)
+#define SIM_ALGO_STANDBY	BIT(0)
+#define SIM_ALGO_PARAM_PROC	BIT(7)
+#define SIM_PARAM_WRITE		BIT(7)
+
+#define SIM_CAL_MAG_UPDATE	BIT(0)
+#define SIM_CAL_GBIAS_UPDATE	BIT(1)
+
+#define SIM_NPARAMS		128	/* parameters 1..127; 0 means STOP */
+#define SIM_NCOEFFS		6	/* mcoeffs, warm-start parameters 18..23 */
+
+enum sim_stream_id {
+	SIM_QUAT,
+	SIM_MAG,
+	SIM_ACCEL,
+	SIM_GYRO,
+	SIM_NSTREAMS,
+};
+
+/*
+ * One output stream. Its TIME register is ts_base + floor(n * 32768 *
+ * rate_den / rate_num) (1/32768 s units, EM7180 register reference §1),
+ * n counting samples since the stream last (re)started, so a host can
+ * tell a missed sample from the timestamps alone.
+ */
+struct sim_stream {
+	u32 rate_num;		/* rate = rate_num / rate_den Hz; 0: off */
+	u32 rate_den;
+	u64 period_ns;
+	u64 tick;		/* next sample is due at epoch + tick * period */
+	u32 n;
+	u16 ts_base;
+	u16 ts;
+	bool unread;		/* latest sample not yet read by the host */
+	u64 produced;
+	u64 read;
+	u64 missed;
+};
+
+struct sim_stats {
+	u64 transactions;
+	u64 bytes;
+	u64 bus_ns;
+	u64 nacks;
+	u64 params_served;
+	ktime_t first;
+	ktime_t last;
+};
+
+struct sentral_sim {
+	/*
+	 * Protects everything below. A spinlock because the hrtimer callback
+	 * producing samples runs in hard-irq context.
+	 */
+	spinlock_t lock;
+	bool dead;
+
+	u8 regs[256];		/* plain registers and the data image */
+	u32 params[SIM_NPARAMS];
+
+	/* Parameter transfer, EM7180 register reference §2 */
+	bool req_pending;
+	ktime_t req_servable_at;
+	u8 param_ack;
+	u8 saved_param[4];
+
+	/* Firmware upload from EEPROM after power-on or reset, §3 */
+	ktime_t upload_done_at;
+
+	/* Algorithm clock: running time split into motion and still time */
+	ktime_t last_advance;
+	u64 motion_ns;
+	u64 cal_ns;
+	unsigned int cal_step;
+	u64 still_ns;
+	s32 coeff[SIM_NCOEFFS];		/* model's mcoeffs, micro-units */
+	s32 coeff_from[SIM_NCOEFFS];	/* where the current convergence began */
+	u8 cal_flags;			/* latched 0x44 bits */
+	u8 event_status;
+	u32 noise_state;
+
+	/* Sample production */
+	struct hrtimer timer;
+	bool producing;
+	ktime_t epoch;
+	u32 quat_phase;
+	struct sim_stream stream[SIM_NSTREAMS];
+	u64 timer_late;
+
+	/* INT pin: high while (EventStatus & EnableEvents) != 0 */
+	bool int_high;
+	u64 irqs;
+	unsigned int virq;
+
+	/* Bus */
+	u8 pointer;
+	struct sim_stats stats;
+	u32 nack_at;
+	u32 nack_count;
+
+	/* Knobs */
+	bool motion;
+	u32 cal_duration_ms;
+	u32 gbias_period_ms;
+	u8 mag_transient;
+	s16 accel_bias[3];
+	u32 ack_latency_us;
+	bool ack_never;
+	u32 upload_ms;
+	u16 ram_version;
+
+	struct i2c_adapter adap;
+	struct i2c_client *client;
+	struct fwnode_handle *fwnode;
+	struct irq_domain *domain;
+	struct dentry *debugfs;
+};
+
+/*
+ * Registers hold little-endian values at any byte offset. Assembling the
+ * bytes here avoids the unaligned.h header move between Linux 6.1 and 6.12.
+ */
+static inline void sim_put_le16(u16 v, u8 *p)
+{
+	p[0] = v;
+	p[1] = v >> 8;
+}
+
+static inline void sim_put_le32(u32 v, u8 *p)
+{
+	sim_put_le16(v, p);
+	sim_put_le16(v >> 16, p + 2);
+}
+
+static inline u32 sim_get_le32(const u8 *p)
+{
+	return p[0] | p[1] << 8 | p[2] << 16 | (u32)p[3] << 24;
+}
+
+/* sim-float.c: IEEE-754 binary32 bit patterns with integer math only */
+int sim_f32_to_scaled(u32 bits, u32 mul, u32 div, s64 *out);
+u32 sim_f32_from_ratio(s64 num, u64 den);
+
+/* sim-model.c: all called with sim->lock held */
+void sim_model_init(struct sentral_sim *sim);
+void sim_power_on(struct sentral_sim *sim, ktime_t now);
+void sim_advance(struct sentral_sim *sim, ktime_t now);
+u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek);
+void sim_reg_write(struct sentral_sim *sim, u8 reg, u8 val, ktime_t now);
+void sim_schedule(struct sentral_sim *sim, ktime_t now);
+bool sim_int_update(struct sentral_sim *sim);
+void sim_set_motion(struct sentral_sim *sim, bool motion, ktime_t now);
+u8 sim_cal_status(struct sentral_sim *sim);
+u16 sim_cal_score_raw(struct sentral_sim *sim);
+bool sim_in_upload(struct sentral_sim *sim, ktime_t now);
+bool sim_algo_running(struct sentral_sim *sim, ktime_t now);
+
+/* sim-main.c */
+void sim_fire_irq(struct sentral_sim *sim);
+
+/* sim-debugfs.c */
+void sim_debugfs_init(struct sentral_sim *sim);
+
+#endif /* SENTRAL_SIM_H */

@@ -1,0 +1,403 @@
+// SPDX-License-Identifier: GPL-2.0
+/*
+ * debugfs knobs of the simulated EM7180, under sentral-sim/. Every file is
+ * described in tests/sim/README.md.
+ */
+#include <linux/debugfs.h>
+#include <linux/fs.h>
+#include <linux/kernel.h>
+#include <linux/seq_file.h>
+#include <linux/string.h>
+#include <linux/uaccess.h>
+
+#include "sentral_sim.h"
+
+#define SIM_MAX_MS		3600000		/* one hour */
+#define SIM_MAX_LATENCY_US	10000000	/* ten seconds */
+#define SIM_MAX_UPLOAD_MS	10000
+
+struct sim_knob {
+	const char *name;
+	umode_t mode;
+	/* both called with sim->lock held, after sim_advance() */
+	void (*show)(struct seq_file *m, struct sentral_sim *sim, ktime_t now);
+	int (*store)(struct sentral_sim *sim, char *buf, ktime_t now);
+};
+
+/* debugfs files carry their knob; there is one chip */
+static struct sentral_sim *sim_dbg;
+
+static const char * const sim_stream_names[SIM_NSTREAMS] = {
+	[SIM_QUAT] = "quaternion",
+	[SIM_MAG] = "mag",
+	[SIM_ACCEL] = "accel",
+	[SIM_GYRO] = "gyro",
+};
+
+static int sim_parse_u32(const char *buf, u32 max, u32 *val)
+{
+	u32 v;
+	int ret;
+
+	ret = kstrtou32(buf, 0, &v);
+	if (ret)
+		return ret;
+	if (v > max)
+		return -ERANGE;
+	*val = v;
+	return 0;
+}
+
+static void motion_show(struct seq_file *m, struct sentral_sim *sim,
+			ktime_t now)
+{
+	seq_printf(m, "%d\n", sim->motion);
+}
+
+static int motion_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	bool v;
+	int ret = kstrtobool(buf, &v);
+
+	if (!ret)
+		sim_set_motion(sim, v, now);
+	return ret;
+}
+
+static void cal_duration_show(struct seq_file *m, struct sentral_sim *sim,
+			      ktime_t now)
+{
+	seq_printf(m, "%u\n", sim->cal_duration_ms);
+}
+
+static int cal_duration_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	u32 v;
+	int ret = sim_parse_u32(buf, SIM_MAX_MS, &v);
+
+	if (ret)
+		return ret;
+	if (!v)
+		return -EINVAL;
+	sim->cal_duration_ms = v;
+	return 0;
+}
+
+static void gbias_period_show(struct seq_file *m, struct sentral_sim *sim,
+			      ktime_t now)
+{
+	seq_printf(m, "%u\n", sim->gbias_period_ms);
+}
+
+static int gbias_period_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	u32 v;
+	int ret = sim_parse_u32(buf, SIM_MAX_MS, &v);
+
+	if (ret)
+		return ret;
+	if (!v)
+		return -EINVAL;
+	sim->gbias_period_ms = v;
+	return 0;
+}
+
+static void mag_transient_show(struct seq_file *m, struct sentral_sim *sim,
+			       ktime_t now)
+{
+	seq_printf(m, "%u\n", sim->mag_transient);
+}
+
+static int mag_transient_store(struct sentral_sim *sim, char *buf,
+			       ktime_t now)
+{
+	u32 v;
+	int ret = sim_parse_u32(buf, 3, &v);
+
+	if (!ret)
+		sim->mag_transient = v;
+	return ret;
+}
+
+static void accel_bias_show(struct seq_file *m, struct sentral_sim *sim,
+			    ktime_t now)
+{
+	seq_printf(m, "%d %d %d\n", sim->accel_bias[0], sim->accel_bias[1],
+		   sim->accel_bias[2]);
+}
+
+static int accel_bias_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	s16 v[3];
+	char *tok;
+	int i;
+
+	for (i = 0; i < 3; i++) {
+		tok = strsep(&buf, " \t");
+		while (tok && !*tok)
+			tok = strsep(&buf, " \t");
+		if (!tok || kstrtos16(tok, 0, &v[i]))
+			return -EINVAL;
+	}
+	if (buf && *skip_spaces(buf))
+		return -EINVAL;
+	memcpy(sim->accel_bias, v, sizeof(v));
+	return 0;
+}
+
+static void ack_latency_show(struct seq_file *m, struct sentral_sim *sim,
+			     ktime_t now)
+{
+	seq_printf(m, "%u\n", sim->ack_latency_us);
+}
+
+static int ack_latency_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return sim_parse_u32(buf, SIM_MAX_LATENCY_US, &sim->ack_latency_us);
+}
+
+static void ack_never_show(struct seq_file *m, struct sentral_sim *sim,
+			   ktime_t now)
+{
+	seq_printf(m, "%d\n", sim->ack_never);
+}
+
+static int ack_never_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return kstrtobool(buf, &sim->ack_never);
+}
+
+static void nack_at_show(struct seq_file *m, struct sentral_sim *sim,
+			 ktime_t now)
+{
+	seq_printf(m, "%u\n", sim->nack_at);
+}
+
+static int nack_at_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	int ret = sim_parse_u32(buf, U32_MAX, &sim->nack_at);
+
+	if (!ret)
+		sim->nack_count = 0;
+	return ret;
+}
+
+static void upload_ms_show(struct seq_file *m, struct sentral_sim *sim,
+			   ktime_t now)
+{
+	seq_printf(m, "%u\n", sim->upload_ms);
+}
+
+static int upload_ms_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return sim_parse_u32(buf, SIM_MAX_UPLOAD_MS, &sim->upload_ms);
+}
+
+static void ram_version_show(struct seq_file *m, struct sentral_sim *sim,
+			     ktime_t now)
+{
+	seq_printf(m, "0x%04x\n", sim->ram_version);
+}
+
+static int ram_version_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return kstrtou16(buf, 0, &sim->ram_version);
+}
+
+static int power_cycle_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	if (strcmp(buf, "1"))
+		return -EINVAL;
+	sim_power_on(sim, now);
+	return 0;
+}
+
+static void stats_show(struct seq_file *m, struct sentral_sim *sim,
+		       ktime_t now)
+{
+	struct sim_stats *st = &sim->stats;
+
+	seq_printf(m, "transactions %llu\n", st->transactions);
+	seq_printf(m, "bytes %llu\n", st->bytes);
+	seq_printf(m, "bus_time_us %llu\n",
+		   DIV_ROUND_CLOSEST_ULL(st->bus_ns, NSEC_PER_USEC));
+	seq_printf(m, "elapsed_us %lld\n",
+		   st->transactions ? ktime_us_delta(st->last, st->first) : 0);
+	seq_printf(m, "nacks %llu\n", st->nacks);
+	seq_printf(m, "params_served %llu\n", st->params_served);
+}
+
+static int stats_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	if (strcmp(buf, "0"))
+		return -EINVAL;
+	memset(&sim->stats, 0, sizeof(sim->stats));
+	return 0;
+}
+
+static void samples_show(struct seq_file *m, struct sentral_sim *sim,
+			 ktime_t now)
+{
+	int id;
+
+	for (id = 0; id < SIM_NSTREAMS; id++) {
+		const char *name = sim_stream_names[id];
+		struct sim_stream *st = &sim->stream[id];
+
+		seq_printf(m, "%s %llu\n", name, st->produced);
+		seq_printf(m, "%s_read %llu\n", name, st->read);
+		seq_printf(m, "%s_missed %llu\n", name, st->missed);
+	}
+	seq_printf(m, "timer_late %llu\n", sim->timer_late);
+}
+
+static int samples_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	int id;
+
+	if (strcmp(buf, "0"))
+		return -EINVAL;
+	for (id = 0; id < SIM_NSTREAMS; id++) {
+		sim->stream[id].produced = 0;
+		sim->stream[id].read = 0;
+		sim->stream[id].missed = 0;
+		sim->stream[id].unread = false;
+	}
+	sim->timer_late = 0;
+	return 0;
+}
+
+static void params_show(struct seq_file *m, struct sentral_sim *sim,
+			ktime_t now)
+{
+	int n;
+
+	for (n = 1; n < SIM_NPARAMS; n++)
+		seq_printf(m, "%d 0x%08x\n", n, sim->params[n]);
+}
+
+static void regs_show(struct seq_file *m, struct sentral_sim *sim,
+		      ktime_t now)
+{
+	u8 row[16];
+	int base, i;
+
+	for (base = 0; base < 256; base += 16) {
+		for (i = 0; i < 16; i++)
+			row[i] = sim_reg_read(sim, base + i, now, true);
+		seq_printf(m, "%02x: %*ph\n", base, 16, row);
+	}
+}
+
+static void state_show(struct seq_file *m, struct sentral_sim *sim,
+		       ktime_t now)
+{
+	u8 algo = sim->regs[SIM_REG_ALGO_CONTROL];
+
+	seq_printf(m, "uploading %d\n", sim_in_upload(sim, now));
+	seq_printf(m, "host_run %d\n",
+		   !!(sim->regs[SIM_REG_HOST_CONTROL] & SIM_HOST_RUN));
+	seq_printf(m, "standby %d\n", !!(algo & SIM_ALGO_STANDBY));
+	seq_printf(m, "transfer %d\n", !!(algo & SIM_ALGO_PARAM_PROC));
+	seq_printf(m, "running %d\n", sim_algo_running(sim, now));
+	seq_printf(m, "request_pending %d\n", sim->req_pending);
+	seq_printf(m, "cal_status %u\n", sim_cal_status(sim));
+	seq_printf(m, "score_raw %u\n", sim_cal_score_raw(sim));
+	seq_printf(m, "int %d\n", sim->int_high);
+	seq_printf(m, "irqs %llu\n", sim->irqs);
+	seq_printf(m, "virq %u\n", sim->virq);
+}
+
+static const struct sim_knob sim_knobs[] = {
+	{ "motion", 0600, motion_show, motion_store },
+	{ "cal_duration_ms", 0600, cal_duration_show, cal_duration_store },
+	{ "gbias_period_ms", 0600, gbias_period_show, gbias_period_store },
+	{ "mag_transient", 0600, mag_transient_show, mag_transient_store },
+	{ "accel_bias", 0600, accel_bias_show, accel_bias_store },
+	{ "ack_latency_us", 0600, ack_latency_show, ack_latency_store },
+	{ "ack_never", 0600, ack_never_show, ack_never_store },
+	{ "nack_at", 0600, nack_at_show, nack_at_store },
+	{ "upload_ms", 0600, upload_ms_show, upload_ms_store },
+	{ "ram_version", 0600, ram_version_show, ram_version_store },
+	{ "power_cycle", 0200, NULL, power_cycle_store },
+	{ "stats", 0600, stats_show, stats_store },
+	{ "samples", 0600, samples_show, samples_store },
+	{ "params", 0400, params_show, NULL },
+	{ "regs", 0400, regs_show, NULL },
+	{ "state", 0400, state_show, NULL },
+};
+
+static int sim_knob_show(struct seq_file *m, void *unused)
+{
+	const struct sim_knob *knob = m->private;
+	struct sentral_sim *sim = sim_dbg;
+	unsigned long flags;
+	ktime_t now;
+
+	/* write-only knobs read as empty */
+	if (!knob->show)
+		return 0;
+	spin_lock_irqsave(&sim->lock, flags);
+	now = ktime_get();
+	sim_advance(sim, now);
+	knob->show(m, sim, now);
+	spin_unlock_irqrestore(&sim->lock, flags);
+	return 0;
+}
+
+static int sim_knob_open(struct inode *inode, struct file *file)
+{
+	return single_open(file, sim_knob_show, inode->i_private);
+}
+
+static ssize_t sim_knob_write(struct file *file, const char __user *ubuf,
+			      size_t count, loff_t *ppos)
+{
+	const struct sim_knob *knob = file_inode(file)->i_private;
+	struct sentral_sim *sim = sim_dbg;
+	unsigned long flags;
+	char buf[64];
+	ktime_t now;
+	bool fire;
+	int ret;
+
+	if (!knob->store)
+		return -EPERM;
+	if (count >= sizeof(buf))
+		return -EINVAL;
+	if (copy_from_user(buf, ubuf, count))
+		return -EFAULT;
+	buf[count] = '\0';
+
+	spin_lock_irqsave(&sim->lock, flags);
+	now = ktime_get();
+	sim_advance(sim, now);
+	ret = knob->store(sim, strim(buf), now);
+	sim_schedule(sim, now);
+	fire = sim_int_update(sim);
+	spin_unlock_irqrestore(&sim->lock, flags);
+
+	if (fire)
+		sim_fire_irq(sim);
+	return ret ? ret : count;
+}
+
+static const struct file_operations sim_knob_fops = {
+	.owner = THIS_MODULE,
+	.open = sim_knob_open,
+	.read = seq_read,
+	.write = sim_knob_write,
+	.llseek = seq_lseek,
+	.release = single_release,
+};
+
+void sim_debugfs_init(struct sentral_sim *sim)
+{
+	int i;
+
+	sim_dbg = sim;
+	for (i = 0; i < ARRAY_SIZE(sim_knobs); i++)
+		debugfs_create_file(sim_knobs[i].name, sim_knobs[i].mode,
+				    sim->debugfs, (void *)&sim_knobs[i],
+				    &sim_knob_fops);
+}

@@ -1,0 +1,835 @@
+// SPDX-License-Identifier: GPL-2.0
+/*
+ * The register-level model of the simulated EM7180: register map, parameter
+ * transfer, calibration, sensor data and data-ready events.
+ *
+ * Facts about the chip come from the EM7180 register reference (section
+ * numbers below) and the PNI warm-start application note; where the sources
+ * are silent the choice made here is documented in tests/sim/README.md.
+ *
+ * Every function here runs with sim->lock held.
+ */
+#include <linux/fixp-arith.h>
+#include <linux/kernel.h>
+#include <linux/math64.h>
+#include <linux/minmax.h>
+#include <linux/string.h>
+
+#include "sentral_sim.h"
+
+/* Fixed identity, EM7180 register reference §1 */
+#define SIM_PRODUCT_ID		0x80
+#define SIM_REVISION_ID		0x02
+#define SIM_ROM_VERSION		0x09e6	/* ROM "DI02" */
+
+/* SentralStatus bits, §1 and §3: 0x0b is "good" after reset */
+#define SIM_ST_EEPROM		BIT(0)
+#define SIM_ST_UPLOAD_DONE	BIT(1)
+#define SIM_ST_STANDBY		BIT(3)
+
+/* AlgorithmStatus bits, §1 */
+#define SIM_AS_STANDBY		BIT(0)
+#define SIM_AS_STILL		BIT(2)
+#define SIM_AS_CAL_STABLE	BIT(3)
+#define SIM_AS_MAG_TRANSIENT	BIT(4)
+
+/* Rate registers hold Hz (mag) or Hz/10 (accel, gyro), §1; §3 limits */
+#define SIM_MAX_RATE_REG	100
+
+/* Warm-start parameter numbers, application note coefficient table */
+#define SIM_PARAM_MCOEFF	18	/* 18..20 soft-iron gains, 21..23 offsets */
+#define SIM_PARAM_ACCEL_OFFSET	27	/* 27..29, float g */
+#define SIM_PARAM_GBIAS		33	/* 33..35, float dps (model's choice) */
+
+#define SIM_MICRO		1000000
+#define SIM_COEFF_LIMIT		1000000000	/* |coefficient| <= 1000 */
+
+/* 1 LSB = 0.000488 g exactly (application note, Table 1) */
+#define SIM_ACCEL_LSB_UG	488
+/* 1 LSB = 5000/32768 dps and 1000/32768 uT (scaled output, §1) */
+#define SIM_GYRO_FS_DPS		5000
+#define SIM_MAG_FS_PT		1000000000LL
+#define SIM_FS_COUNTS		32768
+
+/* Calibration converges in this many coefficient updates */
+#define SIM_CAL_STEPS		10
+/* Score (percent * 1000) of the true coefficients and of the defaults */
+#define SIM_SCORE_FLOOR_MILLI	2700
+#define SIM_SCORE_SPAN_MILLI	47300
+#define SIM_SCORE_MAX_MILLI	99700
+/* gain errors are weighted as if multiplied by a 50 uT field */
+#define SIM_GAIN_WEIGHT		50
+
+/* Motion is a yaw spin about the NED down axis at 90 dps */
+#define SIM_SPIN_CDEG_PER_S	9000
+#define SIM_SPIN_LSB		590	/* round(90 * 32768 / 5000) */
+
+static const u32 sim_param_defaults[SIM_NPARAMS] = {
+	[3] = 0x3f800000,		/* gbias_mode 1, "uint8 saved as float" */
+	[4 ... 8] = 0x3c23d70a,		/* GyroThresh: 0.01 */
+	[9 ... 17] = 0x3a83126f,	/* noiseLvls: 0.001 */
+	[18 ... 20] = 0x3f800000,	/* mcoeffs gains 1.0 */
+	[24 ... 26] = 0x3f800000,	/* acoeffs scale 1.0 */
+	[30 ... 32] = 0x3f800000,	/* gcoeffs scale 1.0 */
+	[52] = 0x3f333333,		/* mag merging rate 0.7, §2 */
+	[53] = 0x3f19999a,		/* accel merging rate 0.6, §2 */
+	[74] = 0x000803e8,		/* dynamic range: mag 1000 uT, accel 8 g */
+	[75] = 0x000007d0,		/* dynamic range: gyro 2000 dps */
+};
+
+/* Power-on mcoeffs: unit gains, no offsets (micro-units, pT for offsets) */
+static const s32 sim_coeff_default[SIM_NCOEFFS] = {
+	SIM_MICRO, SIM_MICRO, SIM_MICRO, 0, 0, 0,
+};
+
+/* The simulated magnetometer's true soft-iron gains and hard-iron offsets */
+static const s32 sim_coeff_true[SIM_NCOEFFS] = {
+	900000, 1080000, 950000, 25000000, -12500000, 40000000,
+};
+
+/* Earth field in NED, pT: 20 uT north, 45 uT down */
+static const s64 sim_field_ned[3] = { 20000000, 0, 45000000 };
+
+static const s32 sim_gravity[3] = { 0, 0, 2048 };	/* device flat, NED */
+static const s32 sim_gyro_true_bias[3] = { 12, -7, 5 };	/* LSB */
+
+static const u8 sim_stream_base[SIM_NSTREAMS] = {
+	[SIM_QUAT] = SIM_REG_QX,
+	[SIM_MAG] = SIM_REG_MX,
+	[SIM_ACCEL] = SIM_REG_AX,
+	[SIM_GYRO] = SIM_REG_GX,
+};
+
+static const u8 sim_stream_event[SIM_NSTREAMS] = {
+	[SIM_QUAT] = SIM_EV_QUATERNION,
+	[SIM_MAG] = SIM_EV_MAG,
+	[SIM_ACCEL] = SIM_EV_ACCEL,
+	[SIM_GYRO] = SIM_EV_GYRO,
+};
+
+bool sim_in_upload(struct sentral_sim *sim, ktime_t now)
+{
+	return ktime_before(now, sim->upload_done_at);
+}
+
+/* The fusion algorithm executes: running, not in standby, not paused */
+bool sim_algo_running(struct sentral_sim *sim, ktime_t now)
+{
+	u8 algo = sim->regs[SIM_REG_ALGO_CONTROL];
+
+	return !sim_in_upload(sim, now) &&
+	       (sim->regs[SIM_REG_HOST_CONTROL] & SIM_HOST_RUN) &&
+	       !(algo & (SIM_ALGO_STANDBY | SIM_ALGO_PARAM_PROC));
+}
+
+static u64 sim_coeff_error(const s32 *coeff)
+{
+	u64 err = 0;
+	int i;
+
+	for (i = 0; i < SIM_NCOEFFS; i++) {
+		u64 d = abs((s64)coeff[i] - sim_coeff_true[i]);
+
+		err += i < 3 ? d * SIM_GAIN_WEIGHT : d;
+	}
+	return err;
+}
+
+/* CalStatus from the remaining error relative to the uncalibrated one */
+u8 sim_cal_status(struct sentral_sim *sim)
+{
+	u64 err = sim_coeff_error(sim->coeff) * 100;
+	u64 ref = sim_coeff_error(sim_coeff_default);
+
+	if (err > ref * 70)
+		return 0;
+	if (err > ref * 35)
+		return 1;
+	if (err > ref * 5)
+		return 2;
+	return 3;
+}
+
+/* Score registers: raw = 32768 + round(percent * 327.68), seed register map */
+u16 sim_cal_score_raw(struct sentral_sim *sim)
+{
+	u64 err = min_t(u64, sim_coeff_error(sim->coeff), 1ULL << 40);
+	u64 ref = sim_coeff_error(sim_coeff_default);
+	u64 milli;
+
+	milli = SIM_SCORE_FLOOR_MILLI +
+		div64_u64(err * SIM_SCORE_SPAN_MILLI + ref / 2, ref);
+	milli = min_t(u64, milli, SIM_SCORE_MAX_MILLI);
+	return 32768 + div64_u64(milli * 32768 + 50000, 100000);
+}
+
+static s32 sim_decode_coeff(u32 bits)
+{
+	s64 v;
+
+	if (sim_f32_to_scaled(bits, SIM_MICRO, 1, &v))
+		return SIM_COEFF_LIMIT;	/* NaN/Inf/huge: far from any truth */
+	return clamp_t(s64, v, -SIM_COEFF_LIMIT, SIM_COEFF_LIMIT);
+}
+
+/* Restoring mcoeffs puts them back at once; convergence restarts there */
+static void sim_coeff_restored(struct sentral_sim *sim, unsigned int idx)
+{
+	sim->coeff[idx] = sim_decode_coeff(sim->params[SIM_PARAM_MCOEFF + idx]);
+	memcpy(sim->coeff_from, sim->coeff, sizeof(sim->coeff));
+	sim->cal_ns = 0;
+	sim->cal_step = 0;
+}
+
+static void sim_cal_progress(struct sentral_sim *sim)
+{
+	u64 dur = (u64)sim->cal_duration_ms * NSEC_PER_MSEC;
+	bool changed = false;
+	unsigned int k;
+	int i;
+
+	k = sim->cal_ns >= dur ? SIM_CAL_STEPS :
+		div64_u64(sim->cal_ns * SIM_CAL_STEPS, dur);
+	if (k <= sim->cal_step)
+		return;
+	sim->cal_step = k;
+
+	for (i = 0; i < SIM_NCOEFFS; i++) {
+		s64 from = sim->coeff_from[i];
+		s32 c = from + div_s64((sim_coeff_true[i] - from) * k,
+				       SIM_CAL_STEPS);
+
+		if (c == sim->coeff[i])
+			continue;
+		sim->coeff[i] = c;
+		sim->params[SIM_PARAM_MCOEFF + i] = sim_f32_from_ratio(c, SIM_MICRO);
+		changed = true;
+	}
+	if (changed)
+		sim->cal_flags |= SIM_CAL_MAG_UPDATE;
+}
+
+/* While still, the gyro bias is learned: store it and latch gBiasUpdate */
+static void sim_learn_gyro_bias(struct sentral_sim *sim)
+{
+	int i;
+
+	for (i = 0; i < 3; i++)
+		sim->params[SIM_PARAM_GBIAS + i] =
+			sim_f32_from_ratio((s64)sim_gyro_true_bias[i] *
+					   SIM_GYRO_FS_DPS, SIM_FS_COUNTS);
+	sim->cal_flags |= SIM_CAL_GBIAS_UPDATE;
+}
+
+/*
+ * Serve the pending parameter request once AlgorithmControl bit 7 has been
+ * set for ack_latency_us (§2: ParamAcknowledge echoes the request once it
+ * has been served; SavedParamByte0..3 hold the value).
+ */
+static void sim_param_poll(struct sentral_sim *sim, ktime_t now)
+{
+	u8 req = sim->regs[SIM_REG_PARAM_REQUEST];
+	unsigned int n = req & ~SIM_PARAM_WRITE;
+	u32 val;
+
+	if (!sim->req_pending || sim->ack_never || sim_in_upload(sim, now) ||
+	    !(sim->regs[SIM_REG_ALGO_CONTROL] & SIM_ALGO_PARAM_PROC))
+		return;
+	if (ktime_us_delta(now, sim->req_servable_at) < sim->ack_latency_us)
+		return;
+
+	if (req & SIM_PARAM_WRITE) {
+		/* The firmware picks the value up when it serves the request */
+		val = sim_get_le32(&sim->regs[SIM_REG_LOAD_PARAM0]);
+		if (n) {
+			sim->params[n] = val;
+			if (n >= SIM_PARAM_MCOEFF &&
+			    n < SIM_PARAM_MCOEFF + SIM_NCOEFFS)
+				sim_coeff_restored(sim, n - SIM_PARAM_MCOEFF);
+		}
+	} else {
+		val = sim->params[n];
+	}
+	sim_put_le32(val, sim->saved_param);
+	sim->param_ack = req;
+	sim->req_pending = false;
+	sim->stats.params_served++;
+	sim->stats.bus_ns += (u64)sim->ack_latency_us * NSEC_PER_USEC;
+}
+
+void sim_advance(struct sentral_sim *sim, ktime_t now)
+{
+	s64 delta = ktime_to_ns(ktime_sub(now, sim->last_advance));
+	u64 period;
+
+	sim_param_poll(sim, now);
+	if (delta <= 0)
+		return;
+	sim->last_advance = now;
+	if (!sim_algo_running(sim, now))
+		return;
+
+	if (sim->motion) {
+		sim->motion_ns += delta;
+		sim->cal_ns += delta;
+		sim_cal_progress(sim);
+		return;
+	}
+
+	sim->still_ns += delta;
+	period = (u64)sim->gbias_period_ms * NSEC_PER_MSEC;
+	if (sim->still_ns >= period) {
+		div64_u64_rem(sim->still_ns, period, &sim->still_ns);
+		sim_learn_gyro_bias(sim);
+	}
+}
+
+void sim_set_motion(struct sentral_sim *sim, bool motion, ktime_t now)
+{
+	sim_advance(sim, now);
+	if (motion == sim->motion)
+		return;
+	sim->motion = motion;
+	sim->still_ns = 0;
+}
+
+static u8 sim_actual_rate(struct sentral_sim *sim, u8 reg)
+{
+	if (!(sim->regs[SIM_REG_HOST_CONTROL] & SIM_HOST_RUN))
+		return 0;
+	return min_t(u8, sim->regs[reg], SIM_MAX_RATE_REG);
+}
+
+static void sim_stream_rate(struct sentral_sim *sim, enum sim_stream_id id,
+			    u32 *num, u32 *den)
+{
+	*den = 1;
+	switch (id) {
+	case SIM_MAG:
+		*num = sim_actual_rate(sim, SIM_REG_MAG_RATE);
+		break;
+	case SIM_ACCEL:
+		*num = sim_actual_rate(sim, SIM_REG_ACCEL_RATE) * 10;
+		break;
+	case SIM_GYRO:
+		*num = sim_actual_rate(sim, SIM_REG_GYRO_RATE) * 10;
+		break;
+	default:
+		/* quaternion = gyro rate / (1 + QRateDivisor), §3 item 5 */
+		*num = sim_actual_rate(sim, SIM_REG_GYRO_RATE) * 10;
+		*den = sim->regs[SIM_REG_QRATE_DIVISOR] + 1;
+		break;
+	}
+}
+
+static ktime_t sim_stream_due(struct sentral_sim *sim, struct sim_stream *st)
+{
+	return ktime_add_ns(sim->epoch, st->tick * st->period_ns);
+}
+
+/* First tick strictly after now, on the common epoch so equal rates align */
+static void sim_stream_next_tick(struct sentral_sim *sim,
+				 struct sim_stream *st, ktime_t now)
+{
+	st->tick = div64_u64(ktime_to_ns(ktime_sub(now, sim->epoch)),
+			     st->period_ns) + 1;
+}
+
+static void sim_stream_restart(struct sentral_sim *sim, struct sim_stream *st,
+			       u32 num, u32 den, ktime_t now)
+{
+	st->rate_num = num;
+	st->rate_den = den;
+	st->ts_base = st->ts;
+	st->n = 0;
+	if (!num)
+		return;
+	st->period_ns = div64_u64((u64)NSEC_PER_SEC * den, num);
+	sim_stream_next_tick(sim, st, now);
+}
+
+static s16 sim_clamp_s16(s64 v)
+{
+	return clamp_t(s64, v, S16_MIN, S16_MAX);
+}
+
+static void sim_put_s16(struct sentral_sim *sim, u8 reg, s64 v)
+{
+	sim_put_le16((u16)sim_clamp_s16(v), &sim->regs[reg]);
+}
+
+/* Deterministic pseudo-noise in [-2, 2] LSB (numerical recipes LCG) */
+static s32 sim_noise(struct sentral_sim *sim)
+{
+	sim->noise_state = sim->noise_state * 1664525 + 1013904223;
+	return (s32)((sim->noise_state >> 16) % 5) - 2;
+}
+
+/* Yaw in centidegrees, from the time spent in motion */
+static u32 sim_yaw_cdeg(struct sentral_sim *sim)
+{
+	return div_u64(sim->motion_ns * (SIM_SPIN_CDEG_PER_S / 1000),
+		       NSEC_PER_MSEC) % 36000;
+}
+
+static void sim_make_accel(struct sentral_sim *sim)
+{
+	int i;
+
+	for (i = 0; i < 3; i++) {
+		s64 off;
+
+		/* offsets are float g in warm-start 27..29 (application note) */
+		if (sim_f32_to_scaled(sim->params[SIM_PARAM_ACCEL_OFFSET + i],
+				      SIM_MICRO, SIM_ACCEL_LSB_UG, &off))
+			off = 0;
+		sim_put_s16(sim, SIM_REG_AX + 2 * i,
+			    sim_gravity[i] + sim->accel_bias[i] - off);
+	}
+}
+
+static void sim_make_gyro(struct sentral_sim *sim)
+{
+	int i;
+
+	for (i = 0; i < 3; i++) {
+		s64 learned;
+		s64 v = sim_gyro_true_bias[i] + sim_noise(sim);
+
+		if (!sim_f32_to_scaled(sim->params[SIM_PARAM_GBIAS + i],
+				       SIM_FS_COUNTS, SIM_GYRO_FS_DPS, &learned))
+			v -= learned;
+		if (i == 2 && sim->motion)
+			v += SIM_SPIN_LSB;
+		sim_put_s16(sim, SIM_REG_GX + 2 * i, v);
+	}
+}
+
+static void sim_make_mag(struct sentral_sim *sim)
+{
+	u32 yaw = sim_yaw_cdeg(sim);
+	s64 c = fixp_cos32_rad(yaw, 36000);
+	s64 s = fixp_sin32_rad(yaw, 36000);
+	s64 body[3];
+	int i;
+
+	/* the field in the body frame after a yaw about the down axis */
+	body[0] = (sim_field_ned[0] * c + sim_field_ned[1] * s) >> 31;
+	body[1] = (sim_field_ned[1] * c - sim_field_ned[0] * s) >> 31;
+	body[2] = sim_field_ned[2];
+
+	for (i = 0; i < 3; i++) {
+		/* what the sensor sees, then the model's correction */
+		s64 raw = div_s64(body[i] * SIM_MICRO, sim_coeff_true[i]) +
+			  sim_coeff_true[3 + i];
+		s64 out = div_s64((raw - sim->coeff[3 + i]) * sim->coeff[i],
+				  SIM_MICRO);
+		s64 lsb = out * SIM_FS_COUNTS;
+
+		lsb += lsb < 0 ? -SIM_MAG_FS_PT / 2 : SIM_MAG_FS_PT / 2;
+		sim_put_s16(sim, SIM_REG_MX + 2 * i, div64_s64(lsb, SIM_MAG_FS_PT));
+	}
+}
+
+static void sim_make_quat(struct sentral_sim *sim)
+{
+	u32 half = sim_yaw_cdeg(sim) / 2;
+	u64 one = 1ULL << 31;	/* fixp_sin32() returns Q31 */
+
+	/* x, y, z, w order, w last (§1): a rotation about the down axis */
+	sim_put_le32(0, &sim->regs[SIM_REG_QX]);
+	sim_put_le32(0, &sim->regs[SIM_REG_QX + 4]);
+	sim_put_le32(sim_f32_from_ratio(fixp_sin32_rad(half, 36000), one),
+		     &sim->regs[SIM_REG_QX + 8]);
+	sim_put_le32(sim_f32_from_ratio(fixp_cos32_rad(half, 36000), one),
+		     &sim->regs[SIM_REG_QX + 12]);
+}
+
+static void sim_produce(struct sentral_sim *sim, enum sim_stream_id id)
+{
+	struct sim_stream *st = &sim->stream[id];
+	u8 base = sim_stream_base[id];
+	u8 time_reg = id == SIM_QUAT ? SIM_REG_QTIME : base + 6;
+
+	switch (id) {
+	case SIM_QUAT:
+		sim_make_quat(sim);
+		break;
+	case SIM_MAG:
+		sim_make_mag(sim);
+		break;
+	case SIM_ACCEL:
+		sim_make_accel(sim);
+		break;
+	default:
+		sim_make_gyro(sim);
+		break;
+	}
+
+	st->n++;
+	st->ts = st->ts_base + (u16)div64_u64((u64)st->n * SIM_FS_COUNTS *
+					      st->rate_den, st->rate_num);
+	sim_put_le16(st->ts, &sim->regs[time_reg]);
+	if (st->unread)
+		st->missed++;
+	st->unread = true;
+	st->produced++;
+	/* EventStatus reports the data events the host enabled */
+	sim->event_status |= sim_stream_event[id] &
+			     sim->regs[SIM_REG_ENABLE_EVENTS];
+}
+
+/* Produce the samples of stream id due by now; return its next due time */
+static ktime_t sim_stream_tick(struct sentral_sim *sim, enum sim_stream_id id,
+			       ktime_t now)
+{
+	struct sim_stream *st = &sim->stream[id];
+
+	if (ktime_after(sim_stream_due(sim, st), now))
+		return sim_stream_due(sim, st);
+
+	sim_produce(sim, id);
+	if (id == SIM_GYRO &&
+	    ++sim->quat_phase > sim->regs[SIM_REG_QRATE_DIVISOR]) {
+		sim->quat_phase = 0;
+		sim_produce(sim, SIM_QUAT);
+	}
+
+	st->tick++;
+	if (!ktime_after(sim_stream_due(sim, st), now)) {
+		/* the timer came late: one sample per callback, count it */
+		sim->timer_late++;
+		sim_stream_next_tick(sim, st, now);
+	}
+	return sim_stream_due(sim, st);
+}
+
+static ktime_t sim_next_due(struct sentral_sim *sim)
+{
+	ktime_t next = 0;
+	int id;
+
+	for (id = SIM_MAG; id < SIM_NSTREAMS; id++) {
+		struct sim_stream *st = &sim->stream[id];
+		ktime_t due;
+
+		if (!st->rate_num)
+			continue;
+		due = sim_stream_due(sim, st);
+		if (!next || ktime_before(due, next))
+			next = due;
+	}
+	return next;
+}
+
+/*
+ * Bring the streams in line with the run state and the rate registers and
+ * (re)arm or stop the timer. Called after every change from process context.
+ */
+void sim_schedule(struct sentral_sim *sim, ktime_t now)
+{
+	bool prod = !sim->dead && sim_algo_running(sim, now);
+	ktime_t next;
+	int id;
+
+	if (prod && !sim->producing)
+		sim->epoch = now;
+	for (id = 0; prod && id < SIM_NSTREAMS; id++) {
+		struct sim_stream *st = &sim->stream[id];
+		u32 num, den;
+
+		sim_stream_rate(sim, id, &num, &den);
+		if (sim->producing && num == st->rate_num && den == st->rate_den)
+			continue;
+		sim_stream_restart(sim, st, num, den, now);
+		if (id == SIM_QUAT)
+			sim->quat_phase = 0;
+	}
+	sim->producing = prod;
+
+	next = prod ? sim_next_due(sim) : 0;
+	if (!next) {
+		hrtimer_try_to_cancel(&sim->timer);
+		return;
+	}
+	if (!hrtimer_is_queued(&sim->timer) ||
+	    hrtimer_get_expires(&sim->timer) != next)
+		hrtimer_start(&sim->timer, next, HRTIMER_MODE_ABS);
+}
+
+static enum hrtimer_restart sim_timer_fn(struct hrtimer *timer)
+{
+	struct sentral_sim *sim = container_of(timer, struct sentral_sim, timer);
+	ktime_t now, next = 0;
+	unsigned long flags;
+	bool fire;
+	int id;
+
+	spin_lock_irqsave(&sim->lock, flags);
+	/*
+	 * If sim_schedule() re-armed the timer while this callback waited for
+	 * the lock, that expiry stands: setting ours would corrupt the queue.
+	 */
+	if (sim->dead || !sim->producing || hrtimer_is_queued(timer)) {
+		spin_unlock_irqrestore(&sim->lock, flags);
+		return HRTIMER_NORESTART;
+	}
+	now = ktime_get();
+	sim_advance(sim, now);
+	for (id = SIM_MAG; id < SIM_NSTREAMS; id++) {
+		ktime_t due;
+
+		if (!sim->stream[id].rate_num)
+			continue;
+		due = sim_stream_tick(sim, id, now);
+		if (!next || ktime_before(due, next))
+			next = due;
+	}
+	fire = sim_int_update(sim);
+	if (next)
+		hrtimer_set_expires(timer, next);
+	spin_unlock_irqrestore(&sim->lock, flags);
+
+	if (fire)
+		sim_fire_irq(sim);
+	return next ? HRTIMER_RESTART : HRTIMER_NORESTART;
+}
+
+/*
+ * The INT pin is high while an enabled event is pending and drops when
+ * EventStatus is read (§3 item 7). The irq_sim line is edge-triggered, so
+ * an interrupt is raised on each low-to-high transition only.
+ */
+bool sim_int_update(struct sentral_sim *sim)
+{
+	bool high = sim->event_status & sim->regs[SIM_REG_ENABLE_EVENTS];
+	bool rising = high && !sim->int_high;
+
+	sim->int_high = high;
+	if (rising)
+		sim->irqs++;
+	return rising;
+}
+
+/* Power-on or ResetRequest: RAM state lost, firmware reloaded (§3) */
+void sim_power_on(struct sentral_sim *sim, ktime_t now)
+{
+	int id;
+
+	memset(sim->regs, 0, sizeof(sim->regs));
+	memcpy(sim->params, sim_param_defaults, sizeof(sim->params));
+	sim->req_pending = false;
+	sim->param_ack = 0;
+	memset(sim->saved_param, 0, sizeof(sim->saved_param));
+	sim->upload_done_at = ktime_add_ms(now, sim->upload_ms);
+
+	sim->last_advance = now;
+	sim->motion_ns = 0;
+	sim->cal_ns = 0;
+	sim->cal_step = 0;
+	sim->still_ns = 0;
+	memcpy(sim->coeff, sim_coeff_default, sizeof(sim->coeff));
+	memcpy(sim->coeff_from, sim_coeff_default, sizeof(sim->coeff_from));
+	sim->cal_flags = 0;
+	/* a reset raises CPUReset whatever EnableEvents says (§3 item 2) */
+	sim->event_status = SIM_EV_CPU_RESET;
+	sim->noise_state = 1;
+	sim->int_high = false;
+
+	sim->producing = false;
+	sim->quat_phase = 0;
+	for (id = 0; id < SIM_NSTREAMS; id++) {
+		struct sim_stream *st = &sim->stream[id];
+
+		st->rate_num = 0;
+		st->rate_den = 1;
+		st->ts = 0;
+		st->ts_base = 0;
+		st->n = 0;
+		st->unread = false;
+	}
+}
+
+void sim_model_init(struct sentral_sim *sim)
+{
+	spin_lock_init(&sim->lock);
+	hrtimer_init(&sim->timer, CLOCK_MONOTONIC, HRTIMER_MODE_ABS);
+	sim->timer.function = sim_timer_fn;
+
+	sim->cal_duration_ms = 5000;
+	sim->gbias_period_ms = 2000;
+	sim->accel_bias[0] = -47;	/* application note, Table 1 */
+	sim->accel_bias[1] = -15;
+	sim->accel_bias[2] = 46;
+	sim->ack_latency_us = 500;
+	sim->upload_ms = 10;
+	sim->ram_version = 0x0d17;
+	sim_power_on(sim, ktime_get());
+}
+
+static void sim_mark_read(struct sentral_sim *sim, u8 reg)
+{
+	struct sim_stream *st;
+
+	if (reg < SIM_REG_MX)
+		st = &sim->stream[SIM_QUAT];
+	else if (reg < SIM_REG_AX)
+		st = &sim->stream[SIM_MAG];
+	else if (reg < SIM_REG_GX)
+		st = &sim->stream[SIM_ACCEL];
+	else
+		st = &sim->stream[SIM_GYRO];
+	if (st->unread) {
+		st->unread = false;
+		st->read++;
+	}
+}
+
+/**
+ * sim_reg_read() - the value of one register as the host reads it
+ * @sim: the chip
+ * @reg: register address
+ * @now: time of the access
+ * @peek: true for debugfs dumps: no clear-on-read, no read accounting
+ *
+ * Return: the register value.
+ */
+u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
+{
+	bool up = sim_in_upload(sim, now);
+	u8 host = sim->regs[SIM_REG_HOST_CONTROL];
+	u8 algo = sim->regs[SIM_REG_ALGO_CONTROL];
+	u8 v;
+
+	switch (reg) {
+	case SIM_REG_QX ... SIM_REG_GTIME + 1:
+		if (!peek)
+			sim_mark_read(sim, reg);
+		return sim->regs[reg];
+	case SIM_REG_EVENT_STATUS:
+		v = sim->event_status;
+		if (!peek)
+			sim->event_status = 0;	/* clear-on-read, §1 */
+		return v;
+	case SIM_REG_SENTRAL_STATUS:
+		if (up)
+			return SIM_ST_EEPROM;
+		/* bit 3 "StandbySt": the CPU is not executing (§1) */
+		return SIM_ST_EEPROM | SIM_ST_UPLOAD_DONE |
+		       (host & SIM_HOST_RUN ? 0 : SIM_ST_STANDBY);
+	case SIM_REG_ALGO_STATUS:
+		v = algo & SIM_ALGO_STANDBY ? SIM_AS_STANDBY : 0;
+		if (!sim->motion)
+			v |= SIM_AS_STILL;
+		if (sim_cal_status(sim) == 3)
+			v |= SIM_AS_CAL_STABLE;
+		if (sim->mag_transient)
+			v |= SIM_AS_MAG_TRANSIENT;
+		return v;
+	case SIM_REG_PARAM_ACK:
+		return sim->param_ack;
+	case SIM_REG_SAVED_PARAM0 ... SIM_REG_SAVED_PARAM3:
+		return sim->saved_param[reg - SIM_REG_SAVED_PARAM0];
+	case SIM_REG_CAL_STATUS:
+		/* seed register map: bits 1:0 CalStatus, 3:2 MagTransient */
+		return sim_cal_status(sim) | sim->mag_transient << 2;
+	case SIM_REG_CAL_FLAGS:
+		v = sim->cal_flags;
+		if (!peek)
+			sim->cal_flags = 0;	/* latched until read */
+		return v;
+	case SIM_REG_ACTUAL_MAG:
+		return sim_actual_rate(sim, SIM_REG_MAG_RATE);
+	case SIM_REG_ACTUAL_ACCEL:
+		return sim_actual_rate(sim, SIM_REG_ACCEL_RATE);
+	case SIM_REG_ACTUAL_GYRO:
+		return sim_actual_rate(sim, SIM_REG_GYRO_RATE);
+	case SIM_REG_CAL_SCORE_LSB:
+		return sim_cal_score_raw(sim) & 0xff;
+	case SIM_REG_CAL_SCORE_MSB:
+		return sim_cal_score_raw(sim) >> 8;
+	case SIM_REG_ROM_VERSION:
+		return SIM_ROM_VERSION & 0xff;
+	case SIM_REG_ROM_VERSION + 1:
+		return SIM_ROM_VERSION >> 8;
+	case SIM_REG_RAM_VERSION:
+		return up ? 0 : sim->ram_version & 0xff;
+	case SIM_REG_RAM_VERSION + 1:
+		return up ? 0 : sim->ram_version >> 8;
+	case SIM_REG_PRODUCT_ID:
+		return SIM_PRODUCT_ID;
+	case SIM_REG_REVISION_ID:
+		return SIM_REVISION_ID;
+	case SIM_REG_RUN_STATUS:
+		return !up && (host & SIM_HOST_RUN);
+	case SIM_REG_PASSTHRU_STATUS:
+		return sim->regs[SIM_REG_PASSTHRU_CTRL] & BIT(0);
+	default:
+		return sim->regs[reg];
+	}
+}
+
+static void sim_write_algo_control(struct sentral_sim *sim, u8 val,
+				   ktime_t now)
+{
+	u8 old = sim->regs[SIM_REG_ALGO_CONTROL];
+
+	sim->regs[SIM_REG_ALGO_CONTROL] = val;
+	if (!(old & SIM_ALGO_PARAM_PROC) && (val & SIM_ALGO_PARAM_PROC)) {
+		/* a request written before bit 7 is served from now on */
+		sim->req_pending = sim->regs[SIM_REG_PARAM_REQUEST] != 0;
+		sim->req_servable_at = now;
+	} else if ((old & SIM_ALGO_PARAM_PROC) && !(val & SIM_ALGO_PARAM_PROC)) {
+		/* end of the procedure (§2 "End") */
+		sim->req_pending = false;
+		sim->param_ack = 0;
+	}
+}
+
+static void sim_write_param_request(struct sentral_sim *sim, u8 val,
+				    ktime_t now)
+{
+	sim->regs[SIM_REG_PARAM_REQUEST] = val;
+	if (!val) {
+		/* 0 = STOP (§2): nothing to serve */
+		sim->req_pending = false;
+		sim->param_ack = 0;
+		return;
+	}
+	sim->req_pending = true;
+	sim->req_servable_at = now;
+}
+
+void sim_reg_write(struct sentral_sim *sim, u8 reg, u8 val, ktime_t now)
+{
+	switch (reg) {
+	case SIM_REG_HOST_CONTROL:
+		/* the CPU cannot be started before its firmware is loaded */
+		if (!sim_in_upload(sim, now))
+			sim->regs[reg] = val;
+		break;
+	case SIM_REG_ALGO_CONTROL:
+		sim_write_algo_control(sim, val, now);
+		break;
+	case SIM_REG_PARAM_REQUEST:
+		sim_write_param_request(sim, val, now);
+		break;
+	case SIM_REG_RESET_REQUEST:
+		if (val & BIT(0))
+			sim_power_on(sim, now);
+		break;
+	case SIM_REG_QRATE_DIVISOR:
+	case SIM_REG_ENABLE_EVENTS:
+	case SIM_REG_MAG_RATE ... 0x5f:		/* rates, LPF, GP inputs */
+	case SIM_REG_LOAD_PARAM0 ... SIM_REG_LOAD_PARAM3:
+	case 0x69 ... 0x6e:			/* GP inputs */
+	case 0x94 ... 0x95:			/* UploadAddress */
+	case 0x9f:				/* passthrough SCL low cycles */
+	case SIM_REG_PASSTHRU_CTRL:
+		sim->regs[reg] = val;
+		break;
+	default:
+		/* read-only registers ignore writes */
+		break;
+	}
+}
