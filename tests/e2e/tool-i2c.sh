@@ -34,7 +34,11 @@ is "key is the client name" "$(echo "$json" | json_field key)" "$client"
 out=$(sentral-warmstart $i2c --address 0x29 status 2>&1)
 is "nothing at 0x29: exit 2" $? 2
 
-# The driver left the chip running; calibrate over i2c-dev.
+# The driver stopped the chip when it was unbound: start it as a host does.
+ok "start the chip (rates, run)" chip_run "$bus"
+is "algorithm running" "$(dbg_get state running)" 1
+
+# Calibrate over i2c-dev.
 knob gbias_period_ms 200
 knob cal_duration_ms 1500
 (sleep 1; knob motion 1) &

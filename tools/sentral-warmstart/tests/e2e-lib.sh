@@ -124,10 +124,12 @@ replug() {
 	wait_for 5 em7180_dir >/dev/null
 }
 
-# Start the chip by hand the way a host does (rates, then run), for tests
-# with no driver bound.
+# Start the chip by hand the way a host does (rates, scaled NED output out
+# of standby, then run), for tests with no driver bound: a driver that is
+# unbound leaves the chip stopped.
 chip_run() {
 	local bus=$1
 	i2ctransfer -f -y "$bus" w4@0x28 0x55 0x1e 0x0a 0x0a &&
+		i2ctransfer -f -y "$bus" w2@0x28 0x54 0x00 &&
 		i2ctransfer -f -y "$bus" w2@0x28 0x34 0x01
 }
