@@ -24,6 +24,10 @@ if [ "${1:-}" = --inside ]; then
 		like "first boot: nothing to restore" "$(dmesg)" "no saved calibration"
 		is "not calibrated" "$(cal_status)" 0
 		ok "simulated figure-8 until calibrated" calibrate_by_motion
+		# Seed step 2: the gyro bias learned while still is part of
+		# the warm start (and the next boot re-learns the same one).
+		ok "gyro bias learned while still" \
+			wait_for 10 grep -qx 1 "$DEV/gyro_bias_update"
 		ok "save" sentral-warmstart save
 		ok "file saved" test -f "$f"
 		;;
@@ -51,21 +55,24 @@ kver=${SENTRAL_KVER:-6.12}
 state=$(mktemp -d "${TMPDIR:-/tmp}/sentral-boot.XXXXXX")
 trap 'rm -rf "$state"' EXIT
 chmod 0700 "$state"
-run() {
-	"$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --state "$state" -- \
-		"$SENTRAL_ROOT/tests/e2e/boot-warmstart.sh" --inside "$1" |
-		sed 's/^/    /'
-	return "${PIPESTATUS[0]}"
+# One boot running this script's stage NAME inside; its checks are shown.
+boot() {
+	local desc=$1 name=$2 out rc
+	out=$("$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --state "$state" -- \
+		"$SENTRAL_ROOT/tests/e2e/boot-warmstart.sh" --inside "$name" 2>&1)
+	rc=$?
+	sed 's/^/#   /' <<<"$out"
+	is "$desc" "$rc" 0
 }
 
-ok "boot 1: calibrate and save" run first
+boot "boot 1: calibrate and save" first
 n=$(ls "$state"/*.ws 2>/dev/null | wc -l)
 is "one saved file on the host" "$n" 1
-ok "boot 2: restored at probe" run second
+boot "boot 2: restored at probe" second
 f=$(ls "$state"/*.ws | head -n1)
 # Flip one bit of a parameter byte: only the CRC can tell.
 b=$(od -An -tu1 -j 100 -N1 "$f" | tr -d ' ')
 printf "$(printf '\\%03o' $((b ^ 0x10)))" |
 	dd of="$f" bs=1 seek=100 count=1 conv=notrunc status=none
-ok "boot 3: corrupted file refused" run third
+boot "boot 3: corrupted file refused" third
 done_testing
