@@ -49,4 +49,16 @@ isnt_payload=$(words 18 23 "$(sim_ws_params)")
 ok "chip untouched: magnetic coefficients are not the file's" \
 	test "$isnt_payload" != "$(words 18 23 "$payload")"
 
+# With systemd running, the rule hands over to the template unit instead.
+mkdir -p /run/systemd/system
+before=$(dmesg | grep -c 'sentral-warmstart\[')
+ok "replug as if systemd were running" replug "$client"
+udevadm settle --timeout=10
+props=$(udevadm info -q property -p "$(readlink -f "$(em7180_dir)")")
+like "SYSTEMD_WANTS names the unit after the key" "$props" \
+	"SYSTEMD_WANTS=sentral-warmstart@${idpath:-$key}\.service"
+like "tagged for systemd" "$props" "TAGS=.*:systemd:"
+is "the tool was not run directly" "$(dmesg | grep -c 'sentral-warmstart\[')" "$before"
+rmdir /run/systemd/system
+
 done_testing
