@@ -122,9 +122,39 @@ is "save through a symlink refused: exit 3" $? 3
 nok "symlink target not created" test -e /tmp/victim.ws
 rm -f "$STATE/link.ws"
 
-# The policy keeps a good file: same score saves, a forced save works.
+# The policy keeps a good file: same score saves, a worse one does not.
 ok "save again at the same score" sentral-warmstart save
-ok "save --force" sentral-warmstart save --force
+python3 - "$f" <<'EOF'
+import sys, zlib, struct
+b = bytearray(open(sys.argv[1], 'rb').read())
+b[18:20] = struct.pack('<H', 32768 + 300)	# the file now claims 0.916 %
+b[172:176] = struct.pack('<I', zlib.crc32(bytes(b[:172])))
+open(sys.argv[1], 'wb').write(b)
+EOF
+out=$(sentral-warmstart save 2>&1)
+is "a worse calibration does not replace a good file: exit 4" $? 4
+like "and says why" "$out" "worse than the saved file's 0.916%"
+is "the file is kept" "$(od -An -tu2 -j18 -N2 "$f" | tr -d ' ')" 33068
+ok "save --force replaces it" sentral-warmstart save --force
+is "with the chip's score" "$(od -An -tu2 -j18 -N2 "$f" | tr -d ' ')" 33653
+
+# --state-dir: created 0700 when missing.
+ok "save --state-dir /tmp/sd" sentral-warmstart --state-dir /tmp/sd save
+is "file in the other directory" "$(stat -c %a "/tmp/sd/$key.ws")" 600
+is "directory created 0700" "$(stat -c %a /tmp/sd)" 700
+
+# While buffered capture runs, the driver refuses blob transfers (-EBUSY).
+echo 1 >"$DEV/buffer0/in_accel_x_en"
+if echo 1 >"$DEV/buffer0/enable"; then
+	out=$(sentral-warmstart restore 2>&1)
+	is "restore during buffered capture: exit 5" $? 5
+	like "and says why" "$out" "buffered capture is running"
+	echo 0 >"$DEV/buffer0/enable"
+else
+	ok "buffer could not be enabled (skipped the -EBUSY check)" false
+fi
+echo 0 >"$DEV/buffer0/in_accel_x_en"
+ok "restore works again afterwards" sentral-warmstart restore
 
 # Device selection.
 ok "--device by IIO name" sentral-warmstart --device "$(basename "$DEV")" status
