@@ -66,7 +66,7 @@ void sw_usage(FILE *f)
 	      "Save and restore the warm-start calibration of a PNI SENtral / EM7180.\n"
 	      "\n"
 	      "Commands:\n"
-	      "  status [--json]                 calibration state of the chip and its saved file\n"
+	      "  status [--json] [--file F]      calibration state of the chip and its saved file\n"
 	      "  save [--file F] [--force] [--max-score S]\n"
 	      "                                  save the calibration if the save policy allows\n"
 	      "  restore [--file F] [--if-present] [--force]\n"
@@ -134,6 +134,16 @@ static int parse_uint(const char *opt, const char *s, unsigned long lo,
 	return SW_EXIT_OK;
 }
 
+static const char *command_name(enum sw_command cmd)
+{
+	size_t i;
+
+	for (i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
+		if (commands[i].cmd == cmd)
+			return commands[i].name;
+	return "?";
+}
+
 /* Which command accepts which command-specific option. */
 static int check_option_use(const struct sw_opts *o, const bool *seen,
 			    struct sw_err *e)
@@ -160,13 +170,14 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 		if (seen[rules[i].opt] &&
 		    !(rules[i].cmds & 1u << o->cmd))
 			return sw_err_set(e, SW_EXIT_USAGE,
-					  "%s is not an option of this command",
-					  rules[i].name);
+					  "%s is not an option of '%s'",
+					  rules[i].name, command_name(o->cmd));
 	}
 	if (o->force && !o->i2c_dev && o->cmd != SW_CMD_SAVE &&
 	    o->cmd != SW_CMD_RESTORE && o->cmd != SW_CMD_CALIBRATE)
 		return sw_err_set(e, SW_EXIT_USAGE,
-				  "--force is not an option of this command");
+				  "--force is not an option of '%s'",
+				  command_name(o->cmd));
 	if (o->cmd == SW_CMD_SHOW && (o->device || o->i2c_dev))
 		return sw_err_set(e, SW_EXIT_USAGE,
 				  "show reads a file only; --device, --i2c and --address do not apply");

@@ -126,14 +126,14 @@ static void test_errors(void **state)
 		     "status", NULL);
 	expect_usage("--address", "--i2c", "/dev/i2c-0", "--address", "zz",
 		     "status", NULL);
-	expect_usage("--json is not an option", "save", "--json", NULL);
+	expect_usage("--json is not an option of 'save'", "save", "--json", NULL);
 	expect_usage("--if-present is not an option", "save", "--if-present",
 		     NULL);
 	expect_usage("--timeout is not an option", "save", "--timeout", "3",
 		     NULL);
 	expect_usage("--samples is not an option", "calibrate", "--samples",
 		     "3", NULL);
-	expect_usage("--force is not an option", "status", "--force", NULL);
+	expect_usage("--force is not an option of 'status'", "status", "--force", NULL);
 	expect_usage("--timeout", "calibrate", "--timeout", "0", NULL);
 	expect_usage("--timeout", "calibrate", "--timeout", "-5", NULL);
 	expect_usage("--max-score", "save", "--max-score", "nan", NULL);
