@@ -71,7 +71,7 @@ void sw_usage(FILE *f)
 	      "                                  save the calibration if the save policy allows\n"
 	      "  restore [--file F] [--if-present] [--force]\n"
 	      "                                  write the saved calibration back to the chip\n"
-	      "  calibrate [--timeout SEC] [--target-score S] [--max-score S] [--file F]\n"
+	      "  calibrate [--timeout SEC] [--target-score S] [--max-score S] [--file F] [--force]\n"
 	      "                                  guided figure-8 magnetic calibration, then save\n"
 	      "  accel-cal [--samples N]         one-point accelerometer calibration (Z down)\n"
 	      "  show FILE                       decode and check a saved file\n"
