@@ -111,9 +111,11 @@ enum em7180_scan {
 };
 
 /*
- * Quaternion components in Q14, as bno055: the IIO scale is printed with
- * nine decimals, so 2^-14 = 0.000061035 is exact to 3 ppm where 2^-30
- * would print as 0.
+ * Quaternion components in Q14, stored as s16 x 4 as bno055 does. The IIO
+ * scale is printed with nine decimals, so 2^-14 = 0.000061035 is exact to
+ * 3 ppm where 2^-30 would print as 0; and a scan element larger than the
+ * 8-byte timestamp would make the kernel pad scans to 16 bytes, which
+ * libiio 0.24 does not expect.
  */
 #define EM7180_QUAT_FRAC_BITS		14
 
@@ -151,7 +153,7 @@ struct em7180_data {
 	struct iio_mount_matrix orientation;
 	s64 timestamp;
 	u8 burst[EM7180_BURST_LEN];
-	u8 scan[48] __aligned(8);
+	u8 scan[40] __aligned(8);
 };
 
 extern const struct regmap_config em7180_regmap_config;

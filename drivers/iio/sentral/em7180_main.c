@@ -168,8 +168,8 @@ static const struct iio_chan_spec em7180_channels[] = {
 		.scan_index = EM7180_SCAN_QUAT,
 		.scan_type = {
 			.sign = 's',
-			.realbits = 32,
-			.storagebits = 32,
+			.realbits = 16,
+			.storagebits = 16,
 			.endianness = IIO_CPU,
 			.repeat = 4,
 		},
@@ -189,9 +189,19 @@ static const struct iio_chan_spec em7180_channels[] = {
 	IIO_CHAN_SOFT_TIMESTAMP(EM7180_SCAN_TIMESTAMP),
 };
 
+/* Register bytes of a channel: float32 x 4 for the quaternion, else s16 */
 static unsigned int em7180_chan_bytes(const struct iio_chan_spec *chan)
 {
 	return chan->type == IIO_ROT ? 16 : 2;
+}
+
+/* One quaternion component, float32 from the chip, as Q14 in an s16 */
+static s16 em7180_quat_component(const u8 *src)
+{
+	s32 q = em7180_float_to_fixed(get_unaligned_le32(src),
+				      EM7180_QUAT_FRAC_BITS);
+
+	return clamp_t(s32, q, S16_MIN, S16_MAX);
 }
 
 static int em7180_rate_regs(enum iio_chan_type type, unsigned int *reg,
@@ -347,8 +357,7 @@ static int em7180_read_quat(struct em7180_data *data, int *vals)
 
 	/* x, y, z, w: register order, which is also the ABI order */
 	for (i = 0; i < 4; i++)
-		vals[i] = em7180_float_to_fixed(get_unaligned_le32(&raw[4 * i]),
-						EM7180_QUAT_FRAC_BITS);
+		vals[i] = em7180_quat_component(&raw[4 * i]);
 
 	return IIO_VAL_INT_MULTIPLE;
 }
@@ -759,8 +768,8 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 	unsigned int bit, start, pos = 0;
 	s64 ts = pf->timestamp;
 	const u8 *src;
-	s32 q;
 	int i, ret;
+	s16 q;
 
 	if (iio_trigger_using_own(indio_dev))
 		ts = data->timestamp;
@@ -786,8 +795,7 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 				continue;
 			}
 			for (i = 0; i < 4; i++) {
-				q = em7180_float_to_fixed(get_unaligned_le32(&src[4 * i]),
-							  EM7180_QUAT_FRAC_BITS);
+				q = em7180_quat_component(&src[4 * i]);
 				memcpy(&data->scan[pos], &q, sizeof(q));
 				pos += sizeof(q);
 			}

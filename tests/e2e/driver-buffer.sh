@@ -1,0 +1,140 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# Buffered capture from the em7180 driver on the simulated chip: iio_readdev
+# through the driver's own data-ready trigger (well-formed samples, accel =
+# gravity + the simulator's bias), bus transactions per scan, a channel
+# subset, an hrtimer trigger, and EBUSY for chip reconfiguration meanwhile.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+
+SIM_DBG=/sys/kernel/debug/sentral-sim
+TMP=$(mktemp -d)
+PY=/usr/bin/python3
+
+knob() {
+	echo "$2" >"$SIM_DBG/$1"
+}
+
+dbg_get() {
+	awk -v k="$2" '$1 == k { print $2 }' "$SIM_DBG/$1"
+}
+
+em7180_dir() {
+	local d
+	for d in /sys/bus/iio/devices/iio:device*; do
+		[ "$(cat "$d/name" 2>/dev/null)" = em7180 ] || continue
+		echo "$d"
+		return 0
+	done
+	return 1
+}
+
+# check_samples FILE COUNT LAYOUT: LAYOUT "all" (quaternion, magn, accel,
+# anglvel, timestamp: 40 bytes) or "accel" (accel x y z, timestamp: 16).
+# Prints a problem and fails, or prints a summary.
+check_samples() {
+	"$PY" - "$@" <<'PYEOF'
+import struct, sys
+path, count, layout = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+data = open(path, "rb").read()
+fmt = {"all": "<4h3h3h3h6xq", "accel": "<3h2xq"}[layout]
+size = struct.calcsize(fmt)
+if len(data) != count * size:
+    sys.exit("%d bytes, expected %d samples of %d" % (len(data), count, size))
+bias = (-47, -15, 46)
+last = None
+for i in range(count):
+    v = struct.unpack_from(fmt, data, i * size)
+    if layout == "all":
+        q, m, a, g, ts = v[0:4], v[4:7], v[7:10], v[10:13], v[13]
+        n2 = sum(c * c for c in q)
+        if abs(n2 - 16384 * 16384) > 16384 * 16384 // 1000:
+            sys.exit("sample %d: quaternion %s is not a unit quaternion" % (i, q))
+    else:
+        a, ts = v[0:3], v[3]
+    want = (bias[0], bias[1], 2048 + bias[2])
+    if any(abs(x - w) > 2 for x, w in zip(a, want)):
+        sys.exit("sample %d: accel %s, expected %s within 2 LSB" % (i, a, want))
+    if last is not None and ts <= last:
+        sys.exit("sample %d: timestamp %d not after %d" % (i, ts, last))
+    last = ts
+print("%d samples of %d bytes, accel %s" % (count, size, a))
+PYEOF
+}
+
+DEV=$(em7180_dir)
+ok "em7180 present" test -n "$DEV"
+N=${DEV##*iio:device}
+is "default trigger" "$(cat "$DEV/trigger/current_trigger")" "em7180-dev$N"
+
+# Each data-ready interrupt costs the EventStatus read that clears it and
+# one burst; iio_readdev stops reading after -s samples while the driver may
+# have captured a few more, so count interrupts, not samples.
+knob stats 0
+irqs=$(dbg_get state irqs)
+ok "iio_readdev -b 16 -s 200 em7180" sh -c "iio_readdev -b 16 -s 200 em7180 > $TMP/all.bin"
+t=$(dbg_get stats transactions)
+irqs=$(($(dbg_get state irqs) - irqs))
+out=$(check_samples "$TMP/all.bin" 200 all 2>&1)
+is "200 well-formed samples, accel = gravity + bias" "$?" 0
+echo "# $out"
+echo "# $irqs data-ready interrupts, $t bus transactions"
+ok "at least 200 interrupts" [ "$irqs" -ge 200 ]
+# Besides the scans: EnableEvents on and off.
+ok "at most 2 bus transactions per scan ($t for $irqs)" [ "$t" -le $((2 * irqs + 2)) ]
+ok "transfer mode not entered" [ "$(dbg_get state transfer)" = 0 ]
+
+ok "accel only: iio_readdev ... accel_x accel_y accel_z" \
+	sh -c "iio_readdev -b 16 -s 50 em7180 accel_x accel_y accel_z timestamp > $TMP/accel.bin"
+out=$(check_samples "$TMP/accel.bin" 50 accel 2>&1)
+is "50 well-formed accel samples" "$?" 0
+echo "# $out"
+
+# 1 kHz accel + gyro + quaternion through the data-ready trigger
+echo 1000 >"$DEV/in_accel_sampling_frequency"
+echo 1000 >"$DEV/in_anglvel_sampling_frequency"
+knob samples 0
+knob stats 0
+irqs=$(dbg_get state irqs)
+ok "1 kHz: 300 samples of quaternion, accel, gyro, timestamp" \
+	sh -c "iio_readdev -b 64 -s 300 em7180 rot_quaternion accel_x accel_y accel_z anglvel_x anglvel_y anglvel_z timestamp > $TMP/fast.bin"
+t=$(dbg_get stats transactions)
+irqs=$(($(dbg_get state irqs) - irqs))
+is "1 kHz: 300 x 32 bytes" "$(stat -c %s "$TMP/fast.bin")" 9600
+echo "# 1 kHz: $irqs data-ready interrupts, $t bus transactions; simulator samples:"
+sed 's/^/#   /' "$SIM_DBG/samples"
+ok "1 kHz: at most 2 transactions per scan" [ "$t" -le $((2 * irqs + 2)) ]
+echo 100 >"$DEV/in_accel_sampling_frequency"
+echo 100 >"$DEV/in_anglvel_sampling_frequency"
+
+# Reconfiguring the chip while capturing is refused
+iio_readdev -b 16 -s 0 em7180 accel_x >/dev/null &
+pid=$!
+sleep 1
+nok "warmstart read while capturing: EBUSY" dd if="$DEV/warmstart" of=/dev/null bs=4096 status=none
+like "and the error is EBUSY" "$(dd if="$DEV/warmstart" of=/dev/null bs=4096 2>&1)" "busy"
+nok "calibbias write while capturing" sh -c "echo 1 > $DEV/in_accel_x_calibbias"
+nok "sampling_frequency write while capturing" sh -c "echo 200 > $DEV/in_accel_sampling_frequency"
+ok "calibration_status readable while capturing" cat "$DEV/calibration_status"
+kill "$pid"
+wait "$pid" 2>/dev/null
+ok "warmstart readable after capture" dd if="$DEV/warmstart" of=/dev/null bs=4096 status=none
+
+# Any other trigger when wanted: an hrtimer trigger
+if mkdir /sys/kernel/config/iio/triggers/hrtimer/t0 2>/dev/null; then
+	knob stats 0
+	ok "hrtimer trigger: 20 samples" \
+		sh -c "iio_readdev -t t0 -b 8 -s 20 em7180 accel_x accel_y accel_z timestamp > $TMP/hr.bin"
+	out=$(check_samples "$TMP/hr.bin" 20 accel 2>&1)
+	is "20 well-formed samples" "$?" 0
+	t=$(dbg_get stats transactions)
+	echo "# hrtimer: $t bus transactions for 20 samples"
+	ok "hrtimer: one burst per scan" [ "$t" -le 30 ]
+	echo "em7180-dev$N" >"$DEV/trigger/current_trigger"
+	rmdir /sys/kernel/config/iio/triggers/hrtimer/t0
+else
+	ok "hrtimer trigger available" false
+fi
+
+rm -rf "$TMP"
+done_testing

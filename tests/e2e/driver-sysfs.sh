@@ -1,0 +1,205 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# The em7180 IIO driver on the simulated chip: probe, every attribute read
+# with cat, calibbias and sampling_frequency written with echo, a warmstart
+# round trip with dd, refusals before any bus traffic, and the bus cost of a
+# 35-parameter save and restore measured with the simulator's stats.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+
+SIM_DBG=/sys/kernel/debug/sentral-sim
+TABLE1="0xbcbbe447 0xbbefdc9c 0x3cb7e4de"
+TMP=$(mktemp -d)
+
+knob() {
+	echo "$2" >"$SIM_DBG/$1"
+}
+
+dbg_get() {
+	awk -v k="$2" '$1 == k { print $2 }' "$SIM_DBG/$1"
+}
+
+em7180_dir() {
+	local d
+	for d in /sys/bus/iio/devices/iio:device*; do
+		[ "$(cat "$d/name" 2>/dev/null)" = em7180 ] || continue
+		echo "$d"
+		return 0
+	done
+	return 1
+}
+
+# 140 bytes on stdin as 35 words "0x%08x ..." (host and UML are little-endian)
+blob_words() {
+	od -An -v -tx4 -w4 | awk '{ printf "0x%s ", $1 }'
+}
+
+sim_ws_params() {
+	awk '$1 >= 1 && $1 <= 35 { printf "%s ", $2 }' "$SIM_DBG/params"
+}
+
+# Replace 32-bit word N (1-based) of blob FILE by the bytes of VALUE.
+set_word() {
+	local v=$(($3))
+	printf "$(printf '\\%03o\\%03o\\%03o\\%03o' $((v & 255)) $((v >> 8 & 255)) \
+		$((v >> 16 & 255)) $((v >> 24 & 255)))" |
+		dd of="$1" bs=1 seek=$((4 * ($2 - 1))) count=4 conv=notrunc status=none
+}
+
+chip_idle() {
+	[ "$(dbg_get state transfer)" = 0 ] && [ "$(dbg_get state running)" = 1 ]
+}
+
+DEV=$(em7180_dir)
+ok "probe: an IIO device named em7180" test -n "$DEV"
+like "bound to the I2C client at 0x28" "$(readlink -f "$DEV/..")" '/[0-9]+-0028$'
+ok "algorithm running, not in transfer mode" chip_idle
+N=${DEV##*iio:device}
+
+trig=
+for t in /sys/bus/iio/devices/trigger*; do
+	[ "$(cat "$t/name")" = "em7180-dev$N" ] && trig=$t
+done
+ok "data-ready trigger em7180-dev$N registered" test -n "$trig"
+is "and it is the default trigger" "$(cat "$DEV/trigger/current_trigger")" "em7180-dev$N"
+
+# cat of every attribute
+n=0
+for f in "$DEV"/* "$DEV"/scan_elements/* "$DEV"/buffer/*; do
+	[ -f "$f" ] && [ -r "$f" ] || continue
+	ok "cat ${f#"$DEV"/}" sh -c 'cat "$1" >/dev/null' sh "$f"
+	n=$((n + 1))
+done
+ok "read $n attributes" [ "$n" -ge 40 ]
+is "warmstart mode 0600" "$(stat -c %a "$DEV/warmstart")" 600
+
+is "calibration_status at power-on" "$(cat "$DEV/calibration_status")" 0
+is "calibration_score at power-on (raw 49152)" "$(cat "$DEV/calibration_score")" 50.000
+is "mag_transient 0" "$(cat "$DEV/mag_transient")" 0
+knob mag_transient 2
+is "mag_transient 2 (bits 3:2)" "$(cat "$DEV/mag_transient")" 2
+knob mag_transient 3
+is "mag_transient 3" "$(cat "$DEV/mag_transient")" 3
+knob mag_transient 0
+like "gyro_bias_update 0/1" "$(cat "$DEV/gyro_bias_update")" '^[01]$'
+like "mag_calibration_update 0/1" "$(cat "$DEV/mag_calibration_update")" '^[01]$'
+
+is "accel raw = gravity + Table 1 bias" \
+	"$(cat "$DEV"/in_accel_{x,y,z}_raw | tr '\n' ' ')" "-47 -15 2094 "
+is "in_accel_scale (0.000488 g in m/s^2)" "$(cat "$DEV/in_accel_scale")" 0.004785645
+is "in_anglvel_scale (0.1526 dps in rad/s)" "$(cat "$DEV/in_anglvel_scale")" 0.002663372
+is "in_magn_scale (0.0305176 uT in gauss)" "$(cat "$DEV/in_magn_scale")" 0.000305176
+is "in_rot_quaternion_raw: identity, x y z w" "$(cat "$DEV/in_rot_quaternion_raw")" "0 0 0 16384 "
+is "in_rot_quaternion_scale 2^-14" "$(cat "$DEV/in_rot_quaternion_scale")" 0.000061035
+like "magn raw" "$(cat "$DEV"/in_magn_{x,y,z}_raw | tr '\n' ' ')" '^-?[0-9]+ -?[0-9]+ -?[0-9]+ $'
+like "gyro raw" "$(cat "$DEV/in_anglvel_x_raw")" '^-?[0-9]+$'
+is "mount matrix (identity)" "$(cat "$DEV/in_accel_mount_matrix")" "1, 0, 0; 0, 1, 0; 0, 0, 1"
+
+# sampling_frequency
+is "accel rate 100 Hz" "$(cat "$DEV/in_accel_sampling_frequency")" 100
+is "gyro rate 100 Hz" "$(cat "$DEV/in_anglvel_sampling_frequency")" 100
+is "magn rate 30 Hz" "$(cat "$DEV/in_magn_sampling_frequency")" 30
+is "accel/gyro rates available" "$(cat "$DEV/in_accel_sampling_frequency_available")" \
+	"10 20 50 100 200 500 1000"
+is "magn rates available" "$(cat "$DEV/in_magn_sampling_frequency_available")" "1 10 20 30 50 100"
+ok "echo 200 > in_accel_sampling_frequency" sh -c "echo 200 > $DEV/in_accel_sampling_frequency"
+is "accel actual rate 200" "$(cat "$DEV/in_accel_sampling_frequency")" 200
+ok "echo 1000 > in_anglvel_sampling_frequency" sh -c "echo 1000 > $DEV/in_anglvel_sampling_frequency"
+is "gyro actual rate 1000" "$(cat "$DEV/in_anglvel_sampling_frequency")" 1000
+ok "echo 50 > in_magn_sampling_frequency" sh -c "echo 50 > $DEV/in_magn_sampling_frequency"
+is "magn actual rate 50" "$(cat "$DEV/in_magn_sampling_frequency")" 50
+nok "accel 5 Hz refused" sh -c "echo 5 > $DEV/in_accel_sampling_frequency"
+nok "accel 2000 Hz refused" sh -c "echo 2000 > $DEV/in_accel_sampling_frequency"
+nok "magn 0 Hz refused" sh -c "echo 0 > $DEV/in_magn_sampling_frequency"
+nok "fractional rate refused" sh -c "echo 100.5 > $DEV/in_accel_sampling_frequency"
+for t in accel anglvel; do echo 100 >"$DEV/in_${t}_sampling_frequency"; done
+echo 30 >"$DEV/in_magn_sampling_frequency"
+is "rates back to the defaults" "$(cat "$DEV"/in_{accel,anglvel,magn}_sampling_frequency | tr '\n' ' ')" \
+	"100 100 30 "
+
+# calibbias: LSB <-> float g in parameters 27..29, Table 1 bit for bit
+is "calibbias 0 at power-on" "$(cat "$DEV"/in_accel_{x,y,z}_calibbias | tr '\n' ' ')" "0 0 0 "
+ok "echo -47 > in_accel_x_calibbias" sh -c "echo -47 > $DEV/in_accel_x_calibbias"
+ok "echo -15 > in_accel_y_calibbias" sh -c "echo -15 > $DEV/in_accel_y_calibbias"
+ok "echo 46 > in_accel_z_calibbias" sh -c "echo 46 > $DEV/in_accel_z_calibbias"
+is "calibbias reads back" "$(cat "$DEV"/in_accel_{x,y,z}_calibbias | tr '\n' ' ')" "-47 -15 46 "
+is "parameters 27..29 are Table 1" \
+	"$(dbg_get params 27) $(dbg_get params 28) $(dbg_get params 29)" "$TABLE1"
+is "accel output now 0 0 2048" "$(cat "$DEV"/in_accel_{x,y,z}_raw | tr '\n' ' ')" "0 0 2048 "
+nok "calibbias 40000 refused" sh -c "echo 40000 > $DEV/in_accel_x_calibbias"
+nok "calibbias 1.5 refused" sh -c "echo 1.5 > $DEV/in_accel_x_calibbias"
+nok "calibbias garbage refused" sh -c "echo abc > $DEV/in_accel_x_calibbias"
+ok "chip left running after calibbias" chip_idle
+
+# warmstart: save with dd, measured
+knob stats 0
+ok "dd warmstart out (save)" dd if="$DEV/warmstart" of="$TMP/a" bs=4096 status=none
+is "save: 140 bytes" "$(stat -c %s "$TMP/a")" 140
+save_t=$(dbg_get stats transactions)
+save_bus=$(dbg_get stats bus_time_us)
+save_el=$(dbg_get stats elapsed_us)
+echo "# save of 35 parameters: $save_t transactions, bus_time_us $save_bus, elapsed_us $save_el"
+ok "save: at most 2 transactions per parameter + 4 ($save_t)" [ "$save_t" -le 74 ]
+is "save: 35 requests served" "$(dbg_get stats params_served)" 35
+is "blob equals the chip's parameters" "$(blob_words <"$TMP/a")" "$(sim_ws_params)"
+ok "chip left running after save" chip_idle
+
+# restore of a changed blob, measured
+cp "$TMP/a" "$TMP/b"
+set_word "$TMP/b" 24 0x40000000
+set_word "$TMP/b" 1 0x3fc00000
+knob stats 0
+ok "dd warmstart in (restore)" dd if="$TMP/b" of="$DEV/warmstart" bs=140 status=none
+rest_t=$(dbg_get stats transactions)
+rest_bus=$(dbg_get stats bus_time_us)
+rest_el=$(dbg_get stats elapsed_us)
+echo "# restore of 35 parameters: $rest_t transactions, bus_time_us $rest_bus, elapsed_us $rest_el"
+ok "restore: at most 2 transactions per parameter + 4 ($rest_t)" [ "$rest_t" -le 74 ]
+is "restore: 35 requests served" "$(dbg_get stats params_served)" 35
+is "chip holds the written blob" "$(sim_ws_params)" "$(blob_words <"$TMP/b")"
+ok "chip left running after restore" chip_idle
+ok "dd warmstart out again" dd if="$DEV/warmstart" of="$TMP/c" bs=140 count=1 status=none
+ok "round trip: read equals written" cmp "$TMP/b" "$TMP/c"
+ok "restore the original blob" dd if="$TMP/a" of="$DEV/warmstart" bs=140 status=none
+is "and the chip has it again" "$(sim_ws_params)" "$(blob_words <"$TMP/a")"
+
+# Refusals: nothing reaches the bus
+refused() {
+	knob stats 0
+	"$@" 2>/dev/null && return 1
+	[ "$(dbg_get stats transactions)" = 0 ]
+}
+ok "read of 100 bytes refused, no bus traffic" \
+	refused dd if="$DEV/warmstart" of=/dev/null bs=100 count=1 status=none
+ok "read at offset 4 refused" \
+	refused dd if="$DEV/warmstart" of=/dev/null bs=4 skip=1 count=1 status=none
+head -c 139 "$TMP/a" >"$TMP/short"
+ok "write of 139 bytes refused, no bus traffic" \
+	refused dd if="$TMP/short" of="$DEV/warmstart" bs=4096 status=none
+{ cat "$TMP/a"; printf 'x'; } >"$TMP/long"
+ok "write of 141 bytes refused, no bus traffic" \
+	refused dd if="$TMP/long" of="$DEV/warmstart" bs=4096 status=none
+ok "write at offset 140 refused" \
+	refused dd if="$TMP/a" of="$DEV/warmstart" bs=140 seek=1 status=none
+for v in 0x7fc00000 0x7f800000 0xff800000 0xffffffff; do
+	cp "$TMP/a" "$TMP/bad"
+	set_word "$TMP/bad" 20 $v
+	ok "blob with $v refused, no bus traffic" \
+		refused dd if="$TMP/bad" of="$DEV/warmstart" bs=140 status=none
+done
+ok "chip unchanged by the refusals" test "$(sim_ws_params)" = "$(blob_words <"$TMP/a")"
+
+# Errors from the chip are passed up and transfer mode still ends
+knob ack_never 1
+out=$(dd if="$TMP/a" of="$DEV/warmstart" bs=140 2>&1)
+like "no acknowledge: timed out" "$out" "timed out"
+knob ack_never 0
+ok "chip left running after the timeout" chip_idle
+knob nack_at 3
+out=$(dd if="$DEV/warmstart" of=/dev/null bs=4096 2>&1)
+like "NACK during save: I/O error" "$out" "(Input/output error|No such device)"
+ok "chip left running after the NACK" chip_idle
+ok "next save works" dd if="$DEV/warmstart" of=/dev/null bs=4096 status=none
+
+rm -rf "$TMP"
+done_testing
