@@ -50,11 +50,11 @@ is "served once bit 7 is set" "$(sim_rd 0x3a 5)" "0x28 0x78 0x56 0x34 0x12"
 ok "end" param_end
 
 # A write's value is taken when the request is served, not when written.
-knob ack_latency_us 100000
+knob ack_latency_us 1000000
 ok "begin" param_begin
 ok "write param 41 = 1" sim_wr 0x60 0x01 0x00 0x00 0x00 0xa9
 ok "change LoadParamByte0 before the ack" sim_wr 0x60 0x02
-ok "ack" sim_poll_ack 0xa9
+ok "ack" sim_poll_ack 0xa9 5000
 is "param 41 holds the bytes present when served" "$(param_get 41)" 0x00000002
 ok "end" param_end
 

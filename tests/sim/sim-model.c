@@ -9,6 +9,7 @@
  *
  * Every function here runs with sim->lock held.
  */
+#include <linux/bug.h>
 #include <linux/fixp-arith.h>
 #include <linux/kernel.h>
 #include <linux/math64.h>
