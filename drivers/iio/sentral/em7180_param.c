@@ -39,7 +39,7 @@
  */
 #define EM7180_ACK_TIMEOUT_US		1000000
 #define EM7180_ACK_WAIT_INIT_US		1000
-#define EM7180_ACK_WAIT_MAX_US		100000
+#define EM7180_ACK_WAIT_MAX_US		100000U
 #define EM7180_ACK_STEP_MIN_US		50
 #define EM7180_ACK_STEP_MAX_US		10000
 
@@ -206,19 +206,32 @@ static void em7180_param_sleep(unsigned int us)
 		udelay(us);
 }
 
+/**
+ * struct em7180_batch - acknowledge timing learned within one transfer
+ * @missed: a poll of this batch came before the acknowledge
+ * @best_us: shortest time after a request at which an acknowledge was seen
+ */
+struct em7180_batch {
+	bool missed;
+	unsigned int best_us;
+};
+
 /*
  * Poll ParamAcknowledge with one burst that also returns SavedParam.
  *
  * The first poll comes after the wait that sufficed for the previous
  * parameter. While no poll of the batch has come too early, that wait is
  * shortened by 1/8 after each success, so the driver converges on the
- * firmware's latency instead of sleeping a fixed amount; after one early
- * poll it polls again once the time that sufficed last has passed and keeps
- * that wait for the rest of the batch. A converged batch thus costs one
- * early poll in all.
+ * firmware's latency instead of sleeping a fixed amount. After one early
+ * poll it polls again once the shortest time that sufficed in this batch
+ * has passed, and keeps that wait for the rest of the batch: a converged
+ * batch costs one early poll in all. Only times that actually passed count
+ * as sufficient (a sleep may overrun, so a poll planned too early can still
+ * succeed), and taking the shortest keeps one overrun from slowing down
+ * the rest of the batch.
  */
 static int em7180_param_ack(struct em7180_data *data, u8 req, u32 *val,
-			    bool *missed)
+			    struct em7180_batch *batch)
 {
 	ktime_t start = ktime_get();
 	unsigned int wait = data->ack_wait_us;
@@ -251,15 +264,12 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u32 *val,
 
 	*val = get_unaligned_le32(&ack[1]);
 
-	/*
-	 * Only the time that actually passed is known to be enough: a sleep
-	 * may overrun, and a poll planned too early can then still succeed.
-	 */
-	data->ack_good_us = min_t(unsigned int, waited, EM7180_ACK_WAIT_MAX_US);
+	batch->best_us = min3(batch->best_us, waited, EM7180_ACK_WAIT_MAX_US);
+	data->ack_good_us = batch->best_us;
 	if (!first) {
-		*missed = true;
-		data->ack_wait_us = data->ack_good_us;
-	} else if (!*missed) {
+		batch->missed = true;
+		data->ack_wait_us = batch->best_us;
+	} else if (!batch->missed) {
 		data->ack_wait_us -= data->ack_wait_us / 8;
 	}
 
@@ -289,7 +299,7 @@ static int em7180_param_end(struct em7180_data *data)
 static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
 			     unsigned int count, const u32 *in, u32 *out)
 {
-	bool missed = false;
+	struct em7180_batch batch = { .best_us = UINT_MAX };
 	unsigned int i;
 	u8 buf[5];
 	int ret, end;
@@ -318,7 +328,7 @@ static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
 					   req);
 		}
 		if (!ret)
-			ret = em7180_param_ack(data, req, &val, &missed);
+			ret = em7180_param_ack(data, req, &val, &batch);
 		if (!ret && out)
 			out[i] = val;
 	}
