@@ -172,6 +172,9 @@ u32 em7180_lsb_to_float_g(int lsb);
 int em7180_float_g_to_lsb(u32 bits, int *lsb);
 s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits);
 
+int em7180_chip_suspend(struct em7180_data *data);
+int em7180_chip_resume(struct em7180_data *data);
+
 int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 			   bool write);
 int em7180_format_score(char *buf, size_t size, u16 raw);

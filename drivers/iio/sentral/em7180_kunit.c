@@ -125,6 +125,8 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 		return -EIO;
 
 	emu_serve(emu);
+	emu->regs[EM7180_REG_ALGO_STATUS] = emu->regs[EM7180_REG_ALGO_CTRL] &
+					    EM7180_ALGO_CTRL_STANDBY;
 	for (i = 0; i < val_size; i++)
 		((u8 *)val_buf)[i] = emu->regs[(u8)(reg + i)];
 	emu_log(emu, false, reg, val_buf, val_size);
@@ -571,6 +573,80 @@ static void em7180_test_warmstart_check(struct kunit *test)
 	}
 }
 
+/* Configuration as probe leaves it, through the register cache */
+static void test_configure(struct kunit *test, struct em7180_test *t)
+{
+	static const struct reg_sequence cfg[] = {
+		{ EM7180_REG_MAG_RATE, 30 },
+		{ EM7180_REG_ACCEL_RATE, 10 },
+		{ EM7180_REG_GYRO_RATE, 20 },
+		{ EM7180_REG_QRATE_DIVISOR, 0 },
+		{ EM7180_REG_ENABLE_EVENTS, EM7180_EVENT_ERROR },
+		{ EM7180_REG_HOST_CTRL, EM7180_HOST_CTRL_RUN },
+		{ EM7180_REG_ALGO_CTRL, 0 },
+	};
+	unsigned int i;
+
+	KUNIT_ASSERT_EQ(test, regmap_multi_reg_write(t->data.regmap, cfg,
+						     ARRAY_SIZE(cfg)), 0);
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		put_unaligned_le32(0x3F800000 + i, &t->data.ws[4 * i]);
+	t->data.ws_valid = true;
+	/* Running: upload done, CPU executing */
+	t->emu.regs[EM7180_REG_SENTRAL_STATUS] = 0x03;
+}
+
+static void em7180_test_pm_power_loss(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	unsigned int i;
+
+	test_configure(test, t);
+
+	KUNIT_ASSERT_EQ(test, em7180_chip_suspend(&t->data), 0);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL],
+			EM7180_ALGO_CTRL_STANDBY);
+
+	/* Power lost: registers and parameters gone, CPU in standby */
+	memset(emu->regs, 0, sizeof(emu->regs));
+	memset(emu->params, 0, sizeof(emu->params));
+	emu->regs[EM7180_REG_SENTRAL_STATUS] = 0x0B;
+
+	KUNIT_ASSERT_EQ(test, em7180_chip_resume(&t->data), 0);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_MAG_RATE], 30);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ACCEL_RATE], 10);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_GYRO_RATE], 20);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ENABLE_EVENTS],
+			EM7180_EVENT_ERROR);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_HOST_CTRL],
+			EM7180_HOST_CTRL_RUN);
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		KUNIT_EXPECT_EQ_MSG(test, emu->params[i + 1], 0x3F800000 + i,
+				    "parameter %u", i + 1);
+	expect_ended(test, emu);
+}
+
+static void em7180_test_pm_no_power_loss(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	static const u8 run;
+
+	test_configure(test, t);
+
+	KUNIT_ASSERT_EQ(test, em7180_chip_suspend(&t->data), 0);
+	emu->n_log = 0;
+	emu->transactions = 0;
+	KUNIT_ASSERT_EQ(test, em7180_chip_resume(&t->data), 0);
+
+	/* SentralStatus, then the algorithm out of standby: nothing else */
+	KUNIT_ASSERT_EQ(test, emu->transactions, 2U);
+	expect_xfer(test, emu, 0, false, EM7180_REG_SENTRAL_STATUS, NULL, 1);
+	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &run, 1);
+	KUNIT_EXPECT_EQ(test, emu->params[1], 0U);
+}
+
 static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_read_sequence),
 	KUNIT_CASE(em7180_test_param_write_sequence),
@@ -580,6 +656,8 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_timeout),
 	KUNIT_CASE(em7180_test_param_nack),
 	KUNIT_CASE(em7180_test_param_range),
+	KUNIT_CASE(em7180_test_pm_power_loss),
+	KUNIT_CASE(em7180_test_pm_no_power_loss),
 	{ }
 };
 

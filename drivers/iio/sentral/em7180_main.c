@@ -1097,9 +1097,14 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 }
 EXPORT_SYMBOL_NS_GPL(em7180_core_probe, IIO_EM7180);
 
-static int em7180_suspend(struct device *dev)
+/**
+ * em7180_chip_suspend() - put the fusion algorithm in standby
+ * @data: driver state
+ *
+ * Return: 0 or a negative error code.
+ */
+int em7180_chip_suspend(struct em7180_data *data)
 {
-	struct em7180_data *data = iio_priv(dev_get_drvdata(dev));
 	int ret;
 
 	mutex_lock(&data->lock);
@@ -1108,15 +1113,21 @@ static int em7180_suspend(struct device *dev)
 
 	return ret;
 }
+EXPORT_SYMBOL_IF_KUNIT(em7180_chip_suspend);
 
-/*
+/**
+ * em7180_chip_resume() - run again, restoring the chip after a power loss
+ * @data: driver state
+ *
  * SentralStatus shows the CPU in its standby state only after a reset: a
- * suspended chip keeps executing with just the algorithm halted. Then the
- * configuration and the last known warm start are written back.
+ * suspended chip keeps executing with just the algorithm halted. After a
+ * reset the configuration and the last warm start read or written through
+ * the driver are written back.
+ *
+ * Return: 0 or a negative error code.
  */
-static int em7180_resume(struct device *dev)
+int em7180_chip_resume(struct em7180_data *data)
 {
-	struct em7180_data *data = iio_priv(dev_get_drvdata(dev));
 	u32 vals[EM7180_WS_NUM_PARAMS];
 	unsigned int status, i;
 	int ret;
@@ -1132,7 +1143,7 @@ static int em7180_resume(struct device *dev)
 		goto out;
 	}
 
-	dev_info(dev, "chip lost power, restoring its state\n");
+	dev_info(data->dev, "chip lost power, restoring its state\n");
 
 	ret = em7180_wait_firmware(data);
 	if (ret)
@@ -1154,6 +1165,17 @@ static int em7180_resume(struct device *dev)
 out:
 	mutex_unlock(&data->lock);
 	return ret;
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_chip_resume);
+
+static int em7180_suspend(struct device *dev)
+{
+	return em7180_chip_suspend(iio_priv(dev_get_drvdata(dev)));
+}
+
+static int em7180_resume(struct device *dev)
+{
+	return em7180_chip_resume(iio_priv(dev_get_drvdata(dev)));
 }
 
 EXPORT_NS_GPL_SIMPLE_DEV_PM_OPS(em7180_pm_ops, em7180_suspend, em7180_resume,
