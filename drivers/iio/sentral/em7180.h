@@ -133,6 +133,10 @@ struct iio_trigger;
  * @ack_wait_us: wait before the first ParamAcknowledge poll, learned
  * @ack_good_us: longest wait known to have been enough recently
  * @cal_flags: calibration update flags read but not yet reported
+ * @product_id: ProductID read at probe
+ * @revision_id: RevisionID read at probe
+ * @rom_version: ROM version, read at probe
+ * @ram_version: RAM (firmware) version, read at probe and after a power loss
  * @ws_valid: @ws holds the last warm start written or read
  * @ws: warm start to re-apply when the chip lost power during suspend
  * @orientation: mount matrix from firmware
@@ -144,10 +148,14 @@ struct em7180_data {
 	struct device *dev;
 	struct regmap *regmap;
 	struct iio_trigger *trig;
-	struct mutex lock;	/* chip access, ack estimate, warm start copy */
+	struct mutex lock;	/* chip access, ack estimate, warm start, versions */
 	unsigned int ack_wait_us;
 	unsigned int ack_good_us;
 	u8 cal_flags;
+	u8 product_id;
+	u8 revision_id;
+	u16 rom_version;
+	u16 ram_version;
 	bool ws_valid;
 	u8 ws[EM7180_WS_SIZE];
 	struct iio_mount_matrix orientation;

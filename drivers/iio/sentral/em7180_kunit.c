@@ -612,8 +612,15 @@ static void em7180_test_pm_power_loss(struct kunit *test)
 	memset(emu->regs, 0, sizeof(emu->regs));
 	memset(emu->params, 0, sizeof(emu->params));
 	emu->regs[EM7180_REG_SENTRAL_STATUS] = 0x0B;
+	/* The firmware uploaded again may be another one */
+	emu->regs[EM7180_REG_ROM_VERSION] = 0xE6;
+	emu->regs[EM7180_REG_ROM_VERSION + 1] = 0x09;
+	emu->regs[EM7180_REG_RAM_VERSION] = 0x17;
+	emu->regs[EM7180_REG_RAM_VERSION + 1] = 0x0D;
 
 	KUNIT_ASSERT_EQ(test, em7180_chip_resume(&t->data), 0);
+	KUNIT_EXPECT_EQ(test, t->data.rom_version, 0x09E6);
+	KUNIT_EXPECT_EQ(test, t->data.ram_version, 0x0D17);
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_MAG_RATE], 30);
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ACCEL_RATE], 10);
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_GYRO_RATE], 20);

@@ -607,11 +607,59 @@ static ssize_t calibration_score_show(struct device *dev,
 	return em7180_format_score(buf, PAGE_SIZE, le16_to_cpu(raw));
 }
 
+enum em7180_id_attr {
+	EM7180_ID_PRODUCT,
+	EM7180_ID_REVISION,
+	EM7180_ID_ROM,
+	EM7180_ID_RAM,
+};
+
+/*
+ * A saved warm start only suits the firmware it was read from: userspace
+ * compares these with what it stored. Served from the copy read at probe
+ * and after a power loss, the only times the firmware can change.
+ */
+static ssize_t em7180_id_show(struct device *dev,
+			      struct device_attribute *attr, char *buf)
+{
+	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
+	unsigned int val, width = 4;
+
+	mutex_lock(&data->lock);
+	switch (to_iio_dev_attr(attr)->address) {
+	case EM7180_ID_PRODUCT:
+		val = data->product_id;
+		width = 2;
+		break;
+	case EM7180_ID_REVISION:
+		val = data->revision_id;
+		width = 2;
+		break;
+	case EM7180_ID_ROM:
+		val = data->rom_version;
+		break;
+	default:
+		val = data->ram_version;
+		break;
+	}
+	mutex_unlock(&data->lock);
+
+	return sysfs_emit(buf, "0x%0*x\n", width, val);
+}
+
 static IIO_DEVICE_ATTR_RO(calibration_status, 0);
 static IIO_DEVICE_ATTR_RO(calibration_score, 0);
 static IIO_DEVICE_ATTR_RO(mag_transient, 0);
 static IIO_DEVICE_ATTR_RO(gyro_bias_update, 0);
 static IIO_DEVICE_ATTR_RO(mag_calibration_update, 0);
+static IIO_DEVICE_ATTR(product_id, 0444, em7180_id_show, NULL,
+		       EM7180_ID_PRODUCT);
+static IIO_DEVICE_ATTR(revision_id, 0444, em7180_id_show, NULL,
+		       EM7180_ID_REVISION);
+static IIO_DEVICE_ATTR(rom_version, 0444, em7180_id_show, NULL,
+		       EM7180_ID_ROM);
+static IIO_DEVICE_ATTR(ram_version, 0444, em7180_id_show, NULL,
+		       EM7180_ID_RAM);
 
 /**
  * em7180_warmstart_check() - validate a warmstart attribute access
@@ -733,6 +781,10 @@ static struct attribute *em7180_attrs[] = {
 	&iio_dev_attr_mag_transient.dev_attr.attr,
 	&iio_dev_attr_gyro_bias_update.dev_attr.attr,
 	&iio_dev_attr_mag_calibration_update.dev_attr.attr,
+	&iio_dev_attr_product_id.dev_attr.attr,
+	&iio_dev_attr_revision_id.dev_attr.attr,
+	&iio_dev_attr_rom_version.dev_attr.attr,
+	&iio_dev_attr_ram_version.dev_attr.attr,
 	NULL
 };
 
@@ -1021,6 +1073,24 @@ static int em7180_check_id(struct em7180_data *data)
 				     id[0], id[1], EM7180_PRODUCT_ID,
 				     EM7180_REVISION_ID);
 
+	data->product_id = id[0];
+	data->revision_id = id[1];
+	return 0;
+}
+
+/* ROM and RAM versions, 0x70..0x73 in one burst; valid once uploaded */
+static int em7180_read_versions(struct em7180_data *data)
+{
+	__le16 ver[2];
+	int ret;
+
+	ret = regmap_bulk_read(data->regmap, EM7180_REG_ROM_VERSION, ver,
+			       sizeof(ver));
+	if (ret)
+		return ret;
+
+	data->rom_version = le16_to_cpu(ver[0]);
+	data->ram_version = le16_to_cpu(ver[1]);
 	return 0;
 }
 
@@ -1066,6 +1136,11 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	ret = em7180_wait_firmware(data);
 	if (ret)
 		return ret;
+
+	ret = em7180_read_versions(data);
+	if (ret)
+		return dev_err_probe(dev, ret,
+				     "failed to read firmware versions\n");
 
 	ret = em7180_chip_init(data);
 	if (ret)
@@ -1121,8 +1196,8 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_chip_suspend);
  *
  * SentralStatus shows the CPU in its standby state only after a reset: a
  * suspended chip keeps executing with just the algorithm halted. After a
- * reset the configuration and the last warm start read or written through
- * the driver are written back.
+ * reset the firmware versions are read again, and the configuration and
+ * the last warm start read or written through the driver are written back.
  *
  * Return: 0 or a negative error code.
  */
@@ -1146,6 +1221,11 @@ int em7180_chip_resume(struct em7180_data *data)
 	dev_info(data->dev, "chip lost power, restoring its state\n");
 
 	ret = em7180_wait_firmware(data);
+	if (ret)
+		goto out;
+
+	/* The firmware was uploaded again, maybe a different one */
+	ret = em7180_read_versions(data);
 	if (ret)
 		goto out;
 
