@@ -58,15 +58,4 @@ struct sw_i2c_opts {
 int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
 		struct sw_err *e);
 
-/*
- * Raw register access shared by the i2c backend and the driver backend's
- * identity read: combined write-register/read transfers through
- * I2C_RDWR, atomic on the bus, so a bound driver is not disturbed.
- */
-int sw_i2c_bus_read(int fd, unsigned int addr, uint8_t reg, uint8_t *buf,
-		    size_t len);
-int sw_i2c_bus_write(int fd, unsigned int addr, uint8_t reg,
-		     const uint8_t *buf, size_t len);
-int sw_i2c_read_chip_info(int fd, unsigned int addr, struct sw_chip_info *ci);
-
 #endif

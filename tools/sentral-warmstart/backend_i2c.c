@@ -79,8 +79,12 @@ static int smbus_select(int fd, unsigned int addr)
 	return -1;
 }
 
-int sw_i2c_bus_read(int fd, unsigned int addr, uint8_t reg, uint8_t *buf,
-		    size_t len)
+/*
+ * Combined write-register/read transfers through I2C_RDWR, atomic on the
+ * bus, so that a driver bound anyway (--force) is not disturbed.
+ */
+static int i2c_bus_read(int fd, unsigned int addr, uint8_t reg, uint8_t *buf,
+			size_t len)
 {
 	struct i2c_msg msgs[2] = {
 		{ .addr = (uint16_t)addr, .flags = 0, .len = 1, .buf = &reg },
@@ -103,8 +107,8 @@ int sw_i2c_bus_read(int fd, unsigned int addr, uint8_t reg, uint8_t *buf,
 	return 0;
 }
 
-int sw_i2c_bus_write(int fd, unsigned int addr, uint8_t reg,
-		     const uint8_t *buf, size_t len)
+static int i2c_bus_write(int fd, unsigned int addr, uint8_t reg,
+			 const uint8_t *buf, size_t len)
 {
 	uint8_t tx[1 + I2C_SMBUS_BLOCK_MAX];
 	struct i2c_msg msg = {
@@ -129,12 +133,13 @@ int sw_i2c_bus_write(int fd, unsigned int addr, uint8_t reg,
 	       -1 : 0;
 }
 
-int sw_i2c_read_chip_info(int fd, unsigned int addr, struct sw_chip_info *ci)
+static int i2c_read_chip_info(int fd, unsigned int addr,
+			      struct sw_chip_info *ci)
 {
 	uint8_t id[2], ver[4];
 
-	if (sw_i2c_bus_read(fd, addr, REG_PRODUCT_ID, id, 2) < 0 ||
-	    sw_i2c_bus_read(fd, addr, REG_ROM_VERSION, ver, 4) < 0)
+	if (i2c_bus_read(fd, addr, REG_PRODUCT_ID, id, 2) < 0 ||
+	    i2c_bus_read(fd, addr, REG_ROM_VERSION, ver, 4) < 0)
 		return -1;
 	ci->product_id = id[0];
 	ci->revision_id = id[1];
@@ -167,7 +172,7 @@ static int param_wait_ack(struct i2c_be *ib, uint8_t req, uint8_t *val,
 	for (;;) {
 		uint64_t t;
 
-		if (sw_i2c_bus_read(ib->fd, ib->addr, REG_PARAM_ACK, buf, 5) < 0)
+		if (i2c_bus_read(ib->fd, ib->addr, REG_PARAM_ACK, buf, 5) < 0)
 			return bus_err(ib, "reading", REG_PARAM_ACK, e);
 		t = now_us() - start;
 		if (buf[0] == req) {
@@ -196,10 +201,10 @@ static int param_batch(struct i2c_be *ib, int first, int count, bool write,
 	uint8_t ac, v, zero = 0, burst[5];
 	int i, ret = SW_EXIT_OK;
 
-	if (sw_i2c_bus_read(ib->fd, ib->addr, REG_ALGO_CTRL, &ac, 1) < 0)
+	if (i2c_bus_read(ib->fd, ib->addr, REG_ALGO_CTRL, &ac, 1) < 0)
 		return bus_err(ib, "reading", REG_ALGO_CTRL, e);
 	v = ac | ALGO_PARAM_PROC;
-	if (sw_i2c_bus_write(ib->fd, ib->addr, REG_ALGO_CTRL, &v, 1) < 0) {
+	if (i2c_bus_write(ib->fd, ib->addr, REG_ALGO_CTRL, &v, 1) < 0) {
 		ret = bus_err(ib, "writing", REG_ALGO_CTRL, e);
 		goto end;
 	}
@@ -210,12 +215,12 @@ static int param_batch(struct i2c_be *ib, int first, int count, bool write,
 			req |= PARAM_WRITE;
 			memcpy(burst, vals + 4 * i, 4);
 			burst[4] = req;
-			if (sw_i2c_bus_write(ib->fd, ib->addr, REG_LOAD_PARAM,
+			if (i2c_bus_write(ib->fd, ib->addr, REG_LOAD_PARAM,
 					     burst, 5) < 0) {
 				ret = bus_err(ib, "writing", REG_LOAD_PARAM, e);
 				goto end;
 			}
-		} else if (sw_i2c_bus_write(ib->fd, ib->addr, REG_PARAM_REQ,
+		} else if (i2c_bus_write(ib->fd, ib->addr, REG_PARAM_REQ,
 					    &req, 1) < 0) {
 			ret = bus_err(ib, "writing", REG_PARAM_REQ, e);
 			goto end;
@@ -227,9 +232,9 @@ static int param_batch(struct i2c_be *ib, int first, int count, bool write,
 end:
 	/* Always leave transfer mode and let the algorithm run again. */
 	v = ac & (uint8_t)~ALGO_PARAM_PROC;
-	if (sw_i2c_bus_write(ib->fd, ib->addr, REG_PARAM_REQ, &zero, 1) < 0)
+	if (i2c_bus_write(ib->fd, ib->addr, REG_PARAM_REQ, &zero, 1) < 0)
 		ret = ret ? ret : bus_err(ib, "writing", REG_PARAM_REQ, e);
-	if (sw_i2c_bus_write(ib->fd, ib->addr, REG_ALGO_CTRL, &v, 1) < 0)
+	if (i2c_bus_write(ib->fd, ib->addr, REG_ALGO_CTRL, &v, 1) < 0)
 		ret = ret ? ret : bus_err(ib, "writing", REG_ALGO_CTRL, e);
 	return ret;
 }
@@ -239,7 +244,7 @@ static int i2c_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
 {
 	struct i2c_be *ib = to_i2c(b);
 
-	if (sw_i2c_read_chip_info(ib->fd, ib->addr, ci) < 0)
+	if (i2c_read_chip_info(ib->fd, ib->addr, ci) < 0)
 		return bus_err(ib, "reading", REG_PRODUCT_ID, e);
 	return SW_EXIT_OK;
 }
@@ -250,9 +255,9 @@ static int i2c_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 	struct i2c_be *ib = to_i2c(b);
 	uint8_t st[2], sc[2];
 
-	if (sw_i2c_bus_read(ib->fd, ib->addr, REG_CAL_STATUS, st, 2) < 0)
+	if (i2c_bus_read(ib->fd, ib->addr, REG_CAL_STATUS, st, 2) < 0)
 		return bus_err(ib, "reading", REG_CAL_STATUS, e);
-	if (sw_i2c_bus_read(ib->fd, ib->addr, REG_CAL_SCORE, sc, 2) < 0)
+	if (i2c_bus_read(ib->fd, ib->addr, REG_CAL_SCORE, sc, 2) < 0)
 		return bus_err(ib, "reading", REG_CAL_SCORE, e);
 	cs->status = st[0] & 3;
 	cs->mag_transient = (st[0] >> 2) & 3;
@@ -283,7 +288,7 @@ static int i2c_accel_raw(struct sw_backend *b, int xyz[3], struct sw_err *e)
 	uint8_t buf[6];
 	int i;
 
-	if (sw_i2c_bus_read(ib->fd, ib->addr, REG_ACCEL, buf, 6) < 0)
+	if (i2c_bus_read(ib->fd, ib->addr, REG_ACCEL, buf, 6) < 0)
 		return bus_err(ib, "reading", REG_ACCEL, e);
 	for (i = 0; i < 3; i++)
 		xyz[i] = (int16_t)sw_get_le16(buf + 2 * i);
@@ -368,7 +373,7 @@ int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
 		return sw_err_set(e, errno == ENOENT ? SW_EXIT_DEVICE : SW_EXIT_IO,
 				  "%s: %s%s", o->dev, strerror(errno),
 				  errno == ENOENT ? " (is the i2c-dev module loaded?)" : "");
-	if (sw_i2c_bus_read(fd, o->addr, REG_PRODUCT_ID, &id, 1) < 0) {
+	if (i2c_bus_read(fd, o->addr, REG_PRODUCT_ID, &id, 1) < 0) {
 		int err = errno;
 
 		close(fd);

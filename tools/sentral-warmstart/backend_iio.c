@@ -136,38 +136,47 @@ static int attr_write_int(struct iio_be *ib, const char *attr, int val,
 	return SW_EXIT_OK;
 }
 
+/* An identity attribute: hexadecimal with "0x", at most max. */
+static int attr_read_hex(struct iio_be *ib, const char *attr,
+			 unsigned int max, unsigned int *val, struct sw_err *e)
+{
+	char buf[64], *end;
+	unsigned long v;
+	int ret;
+
+	ret = attr_read(ib, attr, buf, sizeof(buf), e);
+	if (ret)
+		return ret;
+	errno = 0;
+	v = strtoul(buf, &end, 16);
+	if (errno || strncmp(buf, "0x", 2) || *end || v > max)
+		return sw_err_set(e, SW_EXIT_IO, "%s: %s: unexpected value \"%s\"",
+				  ib->b.name, attr, buf);
+	*val = (unsigned int)v;
+	return SW_EXIT_OK;
+}
+
 /*
- * The driver's ABI has no identity attributes, so ProductID, RevisionID
- * and the ROM/RAM versions are read from the chip over i2c-dev. The
- * reads are single combined transfers of read-only registers: atomic on
- * the bus and harmless to the bound driver.
+ * The identity a saved file is checked against: ProductID, RevisionID and
+ * the ROM/RAM versions, as the driver read them from the chip.
  */
 static int iio_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
 			 struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
-	unsigned int bus, addr;
-	char dev[32];
-	int fd, err;
+	unsigned int pid, rev, rom, ram;
+	int ret;
 
-	if (sscanf(ib->parent, "%u-%x", &bus, &addr) != 2)
-		return sw_err_set(e, SW_EXIT_DEVICE,
-				  "%s: parent %s is not an I2C client; cannot read the chip's identity",
-				  b->name, ib->parent);
-	snprintf(dev, sizeof(dev), "/dev/i2c-%u", bus);
-	fd = open(dev, O_RDWR | O_CLOEXEC);
-	if (fd < 0)
-		return sw_err_set(e, SW_EXIT_IO,
-				  "%s: cannot read ProductID/ROM/RAM versions: %s: %s (load the i2c-dev module)",
-				  b->name, dev, strerror(errno));
-	if (sw_i2c_read_chip_info(fd, addr, ci) < 0) {
-		err = errno;
-		close(fd);
-		return sw_err_set(e, SW_EXIT_IO,
-				  "%s: reading chip identity at 0x%02x on %s: %s",
-				  b->name, addr, dev, strerror(err));
-	}
-	close(fd);
+	ret = attr_read_hex(ib, "product_id", 0xff, &pid, e);
+	ret = ret ? ret : attr_read_hex(ib, "revision_id", 0xff, &rev, e);
+	ret = ret ? ret : attr_read_hex(ib, "rom_version", 0xffff, &rom, e);
+	ret = ret ? ret : attr_read_hex(ib, "ram_version", 0xffff, &ram, e);
+	if (ret)
+		return ret;
+	ci->product_id = (uint8_t)pid;
+	ci->revision_id = (uint8_t)rev;
+	ci->rom_version = (uint16_t)rom;
+	ci->ram_version = (uint16_t)ram;
 	return SW_EXIT_OK;
 }
 
