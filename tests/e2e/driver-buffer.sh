@@ -6,28 +6,10 @@
 # gravity + the simulator's bias), bus transactions per scan, a channel
 # subset, an hrtimer trigger, and EBUSY for chip reconfiguration meanwhile.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tests/lib/em7180.sh"
 
-SIM_DBG=/sys/kernel/debug/sentral-sim
 TMP=$(mktemp -d)
 PY=/usr/bin/python3
-
-knob() {
-	echo "$2" >"$SIM_DBG/$1"
-}
-
-dbg_get() {
-	awk -v k="$2" '$1 == k { print $2 }' "$SIM_DBG/$1"
-}
-
-em7180_dir() {
-	local d
-	for d in /sys/bus/iio/devices/iio:device*; do
-		[ "$(cat "$d/name" 2>/dev/null)" = em7180 ] || continue
-		echo "$d"
-		return 0
-	done
-	return 1
-}
 
 # check_samples FILE COUNT LAYOUT: LAYOUT "all" (quaternion, magn, accel,
 # anglvel, timestamp: 40 bytes) or "accel" (accel x y z, timestamp: 16).

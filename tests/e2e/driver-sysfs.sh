@@ -6,37 +6,10 @@
 # round trip with dd, refusals before any bus traffic, and the bus cost of a
 # 35-parameter save and restore measured with the simulator's stats.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tests/lib/em7180.sh"
 
-SIM_DBG=/sys/kernel/debug/sentral-sim
 TABLE1="0xbcbbe447 0xbbefdc9c 0x3cb7e4de"
 TMP=$(mktemp -d)
-
-knob() {
-	echo "$2" >"$SIM_DBG/$1"
-}
-
-dbg_get() {
-	awk -v k="$2" '$1 == k { print $2 }' "$SIM_DBG/$1"
-}
-
-em7180_dir() {
-	local d
-	for d in /sys/bus/iio/devices/iio:device*; do
-		[ "$(cat "$d/name" 2>/dev/null)" = em7180 ] || continue
-		echo "$d"
-		return 0
-	done
-	return 1
-}
-
-# 140 bytes on stdin as 35 words "0x%08x ..." (host and UML are little-endian)
-blob_words() {
-	od -An -v -tx4 -w4 | awk '{ printf "0x%s ", $1 }'
-}
-
-sim_ws_params() {
-	awk '$1 >= 1 && $1 <= 35 { printf "%s ", $2 }' "$SIM_DBG/params"
-}
 
 # Replace 32-bit word N (1-based) of blob FILE by the bytes of VALUE.
 set_word() {

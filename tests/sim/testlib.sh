@@ -2,7 +2,8 @@
 # Helpers for the simulator's own end-to-end tests (tests/e2e/sim-*.sh).
 # Source after tests/lib/tap.sh, inside tests/uml/run.
 
-SIM_DBG=/sys/kernel/debug/sentral-sim
+. "$SENTRAL_ROOT/tests/lib/em7180.sh"
+
 SIM_KO=$SENTRAL_MODDIR/drivers/misc/sentral-sim/sentral_sim.ko
 SIM_ADDR=0x28
 
@@ -16,17 +17,6 @@ sim_load() {
 
 sim_unload() {
 	rmmod sentral_sim
-}
-
-# The bus number of the adapter named sentral-sim.
-sim_bus() {
-	local d
-	for d in /sys/bus/i2c/devices/i2c-*; do
-		[ "$(cat "$d/name" 2>/dev/null)" = sentral-sim ] || continue
-		echo "${d##*/i2c-}"
-		return 0
-	done
-	return 1
 }
 
 # Wait until the simulated EEPROM upload is done (SentralStatus bit 1).
@@ -54,15 +44,6 @@ sim_wr() {
 	local reg=$1
 	shift
 	sim_xfer w$(($# + 1))@$SIM_ADDR "$reg" "$@"
-}
-
-knob() {
-	echo "$2" >"$SIM_DBG/$1"
-}
-
-# The value of KEY in a debugfs file of "key value" lines.
-dbg_get() {
-	awk -v k="$2" '$1 == k { print $2 }' "$SIM_DBG/$1"
 }
 
 param_get() {

@@ -2,70 +2,19 @@
 # Helpers for the sentral-warmstart end-to-end tests (tests/e2e/tool-*.sh,
 # tests/e2e/boot-*.sh), sourced inside tests/uml/run after tests/lib/tap.sh.
 
-SIM_DBG=/sys/kernel/debug/sentral-sim
+. "$SENTRAL_ROOT/tests/lib/em7180.sh"
+
 SIM_KO=$SENTRAL_MODDIR/drivers/misc/sentral-sim/sentral_sim.ko
 STATE=/var/lib/sentral-warmstart
 # Table 1 of the seed app note: -47, -15, +46 LSB as float g.
 TABLE1="0xbcbbe447 0xbbefdc9c 0x3cb7e4de"
 
-knob() {
-	echo "$2" >"$SIM_DBG/$1"
-}
-
-# The value of KEY in a debugfs file of "key value" lines.
-dbg_get() {
-	awk -v k="$2" '$1 == k { print $2 }' "$SIM_DBG/$1"
-}
-
-# Wait up to SECONDS for COMMAND to succeed.
-wait_for() {
-	local end=$(($(date +%s%N) / 1000000 + $1 * 1000))
-	shift
-	until "$@"; do
-		[ $(($(date +%s%N) / 1000000)) -ge $end ] && return 1
-		sleep 0.05
-	done
-}
-
-# The em7180 IIO device directory.
-em7180_dir() {
-	local d
-	for d in /sys/bus/iio/devices/iio:device*; do
-		[ "$(cat "$d/name" 2>/dev/null)" = em7180 ] || continue
-		echo "$d"
-		return 0
-	done
-	return 1
-}
-
-# The I2C bus number of the simulator's adapter.
-sim_bus() {
-	local d
-	for d in /sys/bus/i2c/devices/i2c-*; do
-		[ "$(cat "$d/name" 2>/dev/null)" = sentral-sim ] || continue
-		echo "${d##*/i2c-}"
-		return 0
-	done
-	return 1
-}
-
 sim_ready() {
 	grep -qx 'uploading 0' "$SIM_DBG/state"
 }
 
-# The 35 warm-start parameters the simulated chip holds, "0x%08x ...".
-sim_ws_params() {
-	awk '$1 >= 1 && $1 <= 35 { printf "%s ", $2 }' "$SIM_DBG/params"
-}
-
 sim_param() {
 	dbg_get params "$1"
-}
-
-# 140 bytes on stdin as 35 little-endian words, "0x%08x ..." (the host and
-# UML are little-endian, so od's native order is the chip's).
-blob_words() {
-	od -An -v -tx4 -w4 | awk '{ printf "0x%s ", $1 }'
 }
 
 file_payload_words() {
