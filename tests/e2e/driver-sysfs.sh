@@ -57,6 +57,17 @@ knob mag_transient 0
 like "gyro_bias_update 0/1" "$(cat "$DEV/gyro_bias_update")" '^[01]$'
 like "mag_calibration_update 0/1" "$(cat "$DEV/mag_calibration_update")" '^[01]$'
 
+# The identity a saved warm start is checked against, read at probe.
+t=$(dbg_get stats transactions)
+is "product_id" "$(cat "$DEV/product_id")" 0x80
+is "revision_id" "$(cat "$DEV/revision_id")" 0x02
+is "rom_version" "$(cat "$DEV/rom_version")" 0x09e6
+is "ram_version is the simulator's" "$(cat "$DEV/ram_version")" "$(cat "$SIM_DBG/ram_version")"
+is "identity reads cost no bus transaction" "$(dbg_get stats transactions)" "$t"
+is "identity attributes mode 0444" \
+	"$(stat -c %a "$DEV"/{product_id,revision_id,rom_version,ram_version} | tr '\n' ' ')" \
+	"444 444 444 444 "
+
 is "accel raw = gravity + Table 1 bias" \
 	"$(cat "$DEV"/in_accel_{x,y,z}_raw | tr '\n' ' ')" "-47 -15 2094 "
 is "in_accel_scale (0.000488 g in m/s^2)" "$(cat "$DEV/in_accel_scale")" 0.004785645

@@ -4,7 +4,8 @@
 # sentral-warmstart against the em7180 driver on the simulated chip: status,
 # save policy, guided calibration, save, restore after a power cycle, every
 # refusal of a bad file with the chip untouched, accel-cal (the seed's
-# Table 1 offsets -47, -15, +46), device selection, symlinks.
+# Table 1 offsets -47, -15, +46), device selection, symlinks; the chip's
+# identity comes from the driver's attributes, with i2c-dev out of reach.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -56,6 +57,20 @@ is "file mode 0600" "$(stat -c %a "$f")" 600
 is "state dir mode 0700" "$(stat -c %a "$STATE")" 700
 is "no temporary file left" "$(ls -A "$STATE" | wc -l)" 1
 ok "show accepts it" sentral-warmstart show "$f"
+# The identity comes from the driver's attributes, not from i2c-dev.
+is "the file's identity is the driver's attributes" \
+	"$(sentral-warmstart show "$f" |
+		sed -n 's/^\(ProductID\|RevisionID\|ROM version\|RAM version\): *//p' |
+		tr '\n' ' ')" \
+	"$(cat "$DEV"/{product_id,revision_id,rom_version,ram_version} | tr '\n' ' ')"
+# i2c-dev is built in here: hide its nodes (/dev/null bound over them).
+no_i2c_dev() {
+	unshare -m sh -c 'for d in /dev/i2c-*; do
+		mount --bind /dev/null "$d" || exit 1; done; exec "$@"' sh "$@"
+}
+ok "status without i2c-dev" no_i2c_dev sentral-warmstart status
+ok "save without i2c-dev" no_i2c_dev sentral-warmstart save --force --file /tmp/noi2c.ws
+ok "restore without i2c-dev" no_i2c_dev sentral-warmstart restore --file /tmp/noi2c.ws
 like "show names the parameters" "$(sentral-warmstart show "$f")" "18  mcoeffs\[1\]"
 payload=$(file_payload_words "$f")
 is "saved magnetic coefficients equal the chip's" \
@@ -105,12 +120,20 @@ b[32 + 4 * 19:32 + 4 * 20] = struct.pack('<I', 0x7fc00000)
 b[172:176] = struct.pack('<I', zlib.crc32(bytes(b[:172])))
 open(sys.argv[2], 'wb').write(b)
 EOF
+# A firmware update: the driver reads the new RAM version when it binds.
 ram=$(cat "$SIM_DBG/ram_version")
 knob ram_version 0x0bad
+ok "replug with a new firmware" replug "$client"
+DEV=$(em7180_dir)
+is "ram_version shows the new firmware" "$(cat "$DEV/ram_version")" 0x0bad
 check_refused "RAM version mismatch" "$f"
 out=$(sentral-warmstart restore --force 2>&1)
 is "--force restores across a RAM version change" $? 0
 knob ram_version "$ram"
+ok "replug with the old firmware" replug "$client"
+DEV=$(em7180_dir)
+is "ram_version shows the old firmware" "$(cat "$DEV/ram_version")" "$ram"
+ok "restore after the replug" sentral-warmstart restore
 out=$(sentral-warmstart restore --file /tmp/missing.ws 2>&1)
 is "missing file: exit 3" $? 3
 ok "missing file with --if-present: exit 0" sentral-warmstart restore --if-present --file /tmp/missing.ws
