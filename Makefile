@@ -36,6 +36,8 @@ kunit: prepare
 check: uml tool
 	VERSIONS="$(VERSIONS)" tests/run-suites
 
+# The demo boots the primary kernel only.
+demo: VERSIONS = 6.12
 demo: uml tool
 	tests/demo
 
