@@ -22,6 +22,9 @@ is "no update flags" "$(sim_rd 0x44)" 0x00
 ok "gyro bias period 100 ms" knob gbias_period_ms 100
 # long enough for each CalStatus to be seen even on a loaded host
 ok "calibration takes 5000 ms" knob cal_duration_ms 5000
+nok "a zero calibration time is refused" knob cal_duration_ms 0
+nok "a zero gyro-bias period is refused" knob gbias_period_ms 0
+is "and the values stay" "$(cat "$SIM_DBG/cal_duration_ms") $(cat "$SIM_DBG/gbias_period_ms")" "5000 100"
 ok "rates and run" sim_wr 0x55 0x1e 0x0a 0x0a
 ok "run" sim_wr 0x34 0x01
 sleep 0.35

@@ -48,6 +48,20 @@ static int sim_parse_u32(const char *buf, u32 max, u32 *val)
 	return 0;
 }
 
+/* A duration that something is divided by: 1 ms up to SIM_MAX_MS */
+static int sim_parse_period_ms(const char *buf, u32 *val)
+{
+	u32 v;
+	int ret = sim_parse_u32(buf, SIM_MAX_MS, &v);
+
+	if (ret)
+		return ret;
+	if (!v)
+		return -EINVAL;
+	*val = v;
+	return 0;
+}
+
 static void motion_show(struct seq_file *m, struct sentral_sim *sim,
 			ktime_t now)
 {
@@ -72,15 +86,7 @@ static void cal_duration_show(struct seq_file *m, struct sentral_sim *sim,
 
 static int cal_duration_store(struct sentral_sim *sim, char *buf, ktime_t now)
 {
-	u32 v;
-	int ret = sim_parse_u32(buf, SIM_MAX_MS, &v);
-
-	if (ret)
-		return ret;
-	if (!v)
-		return -EINVAL;
-	sim->cal_duration_ms = v;
-	return 0;
+	return sim_parse_period_ms(buf, &sim->cal_duration_ms);
 }
 
 static void gbias_period_show(struct seq_file *m, struct sentral_sim *sim,
@@ -91,15 +97,7 @@ static void gbias_period_show(struct seq_file *m, struct sentral_sim *sim,
 
 static int gbias_period_store(struct sentral_sim *sim, char *buf, ktime_t now)
 {
-	u32 v;
-	int ret = sim_parse_u32(buf, SIM_MAX_MS, &v);
-
-	if (ret)
-		return ret;
-	if (!v)
-		return -EINVAL;
-	sim->gbias_period_ms = v;
-	return 0;
+	return sim_parse_period_ms(buf, &sim->gbias_period_ms);
 }
 
 static void mag_transient_show(struct seq_file *m, struct sentral_sim *sim,
