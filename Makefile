@@ -3,13 +3,16 @@
 # sentral: driver, tool and tests for the PNI SENtral / EM7180 sensor hub.
 #
 #   make              build the driver against KDIR and the tool
-#   make check        run every test on the simulated chip (both kernels)
+#   make check        run every test on the simulated chip (every kernel)
 #   make demo         the whole story on the simulated chip
+#   make bench        measure bus use, timing and streaming on the simulated chip
+#   make fuzz         fuzz the tool's file parser and command line (long run)
 #   make uml          build the User-Mode Linux test kernels
 #   make install      install the modules, the tool, its udev rule and unit
 
 KDIR     ?= /lib/modules/$(shell uname -r)/build
-VERSIONS ?= 6.12 6.1
+# Test kernels: each version, and 6.12 with the sanitisers (tests/uml/config-san)
+VERSIONS ?= 6.12 6.1 6.12-san
 TOOL     := tools/sentral-warmstart
 
 all: modules tool
@@ -30,8 +33,14 @@ prepare:
 uml: prepare
 	@for v in $(VERSIONS); do tests/uml/build $$v || exit 1; done
 
+# kunit.py builds its own kernel per version; flavours run the suite in UML.
 kunit: prepare
-	@for v in $(VERSIONS); do tests/kernel/kunit $$v || exit 1; done
+	@for v in $(VERSIONS); do \
+		case $$v in \
+		*-*) tests/kernel/kunit-uml $$v ;; \
+		*) tests/kernel/kunit $$v ;; \
+		esac || exit 1; \
+	done
 
 check: uml tool
 	VERSIONS="$(VERSIONS)" tests/run-suites
@@ -40,6 +49,9 @@ check: uml tool
 demo: VERSIONS = 6.12
 demo: uml tool
 	tests/demo
+
+fuzz:
+	$(MAKE) -C $(TOOL) fuzz
 
 install: modules_install
 	$(MAKE) -C $(TOOL) install
@@ -51,4 +63,4 @@ clean:
 distclean: clean
 	rm -rf build
 
-.PHONY: all modules modules_install tool prepare uml kunit check demo install clean distclean
+.PHONY: all modules modules_install tool prepare uml kunit check demo bench fuzz install clean distclean
