@@ -1,0 +1,269 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# Fault sweep of the em7180 driver on the simulated chip (DESIGN §6): for
+# probe, save (warmstart read) and restore (warmstart write) the simulator
+# NACKs transaction 1, then 2, 3, ... until the operation runs clean. Every
+# faulted run must fail (or, when the fault only hit the recovered end of a
+# transfer, succeed with the right result), leave the chip out of
+# parameter-transfer mode with the algorithm running, and the next run must
+# succeed. Then the same with a chip that never acknowledges a parameter
+# (-ETIMEDOUT after 1 s) and one that acknowledges slowly (must succeed).
+# The kernel log is checked for oopses and warnings by the harness.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tests/lib/em7180.sh"
+
+TMP=$(mktemp -d)
+DRV=/sys/bus/i2c/drivers/em7180
+# A sweep longer than this means nack_at never stopped firing
+MAX_INDEX=300
+
+# Without a learned gyro bias arriving mid-test the chip's parameters only
+# change when the driver writes them.
+knob gbias_period_ms 3600000
+knob motion 0
+
+DEV=$(em7180_dir)
+ok "probe: an IIO device named em7180" test -n "$DEV"
+CLIENT=$(basename "$(readlink -f "$DEV/..")")
+like "bound to the I2C client at 0x28" "$CLIENT" '^[0-9]+-0028$'
+
+# Key KEY of the simulator's state file, read without forking.
+sim_state() {
+	local k v
+	while read -r k v; do
+		[ "$k" = "$1" ] && echo "$v" && return
+	done <"$SIM_DBG/state"
+}
+
+not_transfer() {
+	[ "$(sim_state transfer)" = 0 ]
+}
+
+chip_idle() {
+	not_transfer && [ "$(sim_state running)" = 1 ]
+}
+
+# The armed NACK was used: nack_at reads 0 once it fired.
+nack_fired() {
+	[ "$(<"$SIM_DBG/nack_at")" = 0 ]
+}
+
+save() {
+	dd if="$DEV/warmstart" of="$TMP/saved" bs=4096 status=none 2>"$TMP/err"
+}
+
+saved_ok() {
+	[ "$(stat -c %s "$TMP/saved")" = 140 ] &&
+		[ "$(blob_words <"$TMP/saved")" = "$(sim_ws_params)" ]
+}
+
+restore() {
+	dd if="$1" of="$DEV/warmstart" bs=140 status=none 2>"$TMP/err"
+}
+
+restored_ok() {
+	[ "$(sim_ws_params)" = "$(blob_words <"$1")" ]
+}
+
+# Replace 32-bit word N (1-based) of blob FILE by the bytes of VALUE.
+set_word() {
+	local v=$(($3))
+	printf "$(printf '\\%03o\\%03o\\%03o\\%03o' $((v & 255)) $((v >> 8 & 255)) \
+		$((v >> 16 & 255)) $((v >> 24 & 255)))" |
+		dd of="$1" bs=1 seek=$((4 * ($2 - 1))) count=4 conv=notrunc status=none
+}
+
+knob stats 0
+ok "initial save" save
+ok "initial save equals the chip" saved_ok
+ok "chip running, not in transfer mode" chip_idle
+cp "$TMP/saved" "$TMP/orig"
+# Two blobs that differ in the first and last parameters and in between, so
+# that each restore of the sweep changes what the chip holds.
+cp "$TMP/orig" "$TMP/blob0"
+cp "$TMP/orig" "$TMP/blob1"
+set_word "$TMP/blob0" 1 0x3fc00000
+set_word "$TMP/blob0" 18 0x3f8ccccd
+set_word "$TMP/blob0" 35 0x3f435000
+set_word "$TMP/blob1" 1 0x40400000
+set_word "$TMP/blob1" 18 0x3f666666
+set_word "$TMP/blob1" 35 0xbf88b800
+
+nacks=0
+
+# sweep_xfer NAME: NACK each transaction of a save or a restore in turn.
+sweep_xfer() {
+	local what=$1 n=1 rc fired faults=0 succeeded=0 fail= blob
+	while [ $n -le $MAX_INDEX ]; do
+		blob=$TMP/blob$((n & 1))
+		knob nack_at $n
+		if [ "$what" = save ]; then
+			save
+		else
+			restore "$blob"
+		fi
+		rc=$?
+		if ! nack_fired; then
+			knob nack_at 0
+			break
+		fi
+		faults=$((faults + 1))
+		if [ $rc = 0 ]; then
+			# Only a fault in the retried end of the transfer
+			# may be recovered, and then the result is whole.
+			succeeded=$((succeeded + 1))
+			if [ "$what" = save ]; then
+				saved_ok || fail+=" $n:wrong-blob"
+			else
+				restored_ok "$blob" || fail+=" $n:wrong-params"
+			fi
+		elif ! grep -qE 'No such device or address|Input/output error' "$TMP/err"; then
+			fail+=" $n:error($(tr '\n' ' ' <"$TMP/err"))"
+		fi
+		not_transfer || fail+=" $n:left-in-transfer"
+		chip_idle || fail+=" $n:algorithm-stopped"
+		if [ "$what" = save ]; then
+			{ save && saved_ok; } || fail+=" $n:next-save-failed"
+		else
+			{ restore "$blob" && restored_ok "$blob"; } ||
+				fail+=" $n:next-restore-failed"
+		fi
+		n=$((n + 1))
+	done
+	nacks=$((nacks + faults))
+	echo "# $what: $faults NACKs injected, $succeeded recovered, clean at transaction $n"
+	ok "$what: the sweep ended with a clean run" [ $n -le $MAX_INDEX ]
+	ok "$what: a NACK at each of at least 73 transactions ($faults)" [ $faults -ge 73 ]
+	ok "$what: at most the 2 end transactions recovered ($succeeded)" [ $succeeded -le 2 ]
+	is "$what: every faulted run failed or succeeded whole, chip idle, next run good" \
+		"$fail" ""
+	ok "$what: chip running, not in transfer mode" chip_idle
+}
+
+sweep_xfer save
+sweep_xfer restore
+ok "restore the original blob" restore "$TMP/orig"
+ok "and the chip has it" restored_ok "$TMP/orig"
+
+# Probe: unbind, arm the NACK, bind.
+bound() {
+	[ -e "$DRV/$CLIENT" ] && DEV=$(em7180_dir)
+}
+
+bind() {
+	echo "$CLIENT" >"$DRV/bind" 2>"$TMP/err"
+}
+
+unbind() {
+	echo "$CLIENT" >"$DRV/unbind"
+}
+
+ok "unbind" unbind
+nok "unbound: no IIO device" em7180_dir
+n=1
+faults=0
+fail=
+while [ $n -le $MAX_INDEX ]; do
+	knob nack_at $n
+	bind
+	rc=$?
+	if ! nack_fired; then
+		knob nack_at 0
+		break
+	fi
+	faults=$((faults + 1))
+	[ $rc != 0 ] || fail+=" $n:bound"
+	if [ -e "$DRV/$CLIENT" ]; then
+		fail+=" $n:driver-bound"
+		unbind
+	fi
+	em7180_dir >/dev/null && fail+=" $n:iio-device-left"
+	not_transfer || fail+=" $n:left-in-transfer"
+	if bind && bound && chip_idle; then
+		unbind
+	else
+		fail+=" $n:next-probe-failed"
+		[ -e "$DRV/$CLIENT" ] && unbind
+	fi
+	n=$((n + 1))
+done
+nacks=$((nacks + faults))
+echo "# probe: $faults NACKs injected, clean at transaction $n"
+ok "probe: the sweep ended with a clean bind" [ $n -le $MAX_INDEX ]
+is "probe: and that bind succeeded" "$rc" 0
+ok "probe: a NACK at each of at least 11 transactions ($faults)" [ $faults -ge 11 ]
+is "probe: every faulted probe failed, unbound, chip not in transfer mode, next probe good" \
+	"$fail" ""
+ok "bound after the sweep" bound
+DEV=$(em7180_dir)
+ok "chip running after the sweep" chip_idle
+
+# The same through a module reload
+ok "unload em7180_i2c" modprobe -d "$SENTRAL_MODROOT" -r em7180_i2c
+knob nack_at 1
+ok "load em7180_i2c with the first transaction NACKed" \
+	modprobe -d "$SENTRAL_MODROOT" em7180_i2c
+ok "the NACK fired" nack_fired
+nacks=$((nacks + 1))
+nok "probe failed: not bound" bound
+ok "unload again" modprobe -d "$SENTRAL_MODROOT" -r em7180_i2c
+ok "load em7180_i2c" modprobe -d "$SENTRAL_MODROOT" em7180_i2c
+ok "bound after the reload" wait_for 5 bound
+DEV=$(em7180_dir)
+ok "chip running" chip_idle
+ok "save works" save
+ok "and is right" saved_ok
+
+# A chip that never acknowledges a parameter
+timeouts=0
+knob ack_never 1
+for what in save restore; do
+	t0=$(date +%s%N)
+	if [ $what = save ]; then
+		nok "ack_never: save fails" save
+	else
+		nok "ack_never: restore fails" restore "$TMP/blob0"
+	fi
+	ms=$((($(date +%s%N) - t0) / 1000000))
+	timeouts=$((timeouts + 1))
+	like "ack_never: $what timed out" "$(cat "$TMP/err")" "timed out"
+	ok "ack_never: $what gave up after the 1 s timeout ($ms ms)" \
+		test $ms -ge 1000 -a $ms -lt 10000
+	ok "ack_never: chip left running, not in transfer mode" chip_idle
+done
+ok "ack_never: probe needs no acknowledge" sh -c "echo $CLIENT >$DRV/unbind && echo $CLIENT >$DRV/bind"
+ok "bound again" bound
+DEV=$(em7180_dir)
+knob ack_never 0
+ok "after ack_never: restore works" restore "$TMP/blob1"
+ok "and the chip holds the blob" restored_ok "$TMP/blob1"
+ok "after ack_never: save works" save
+ok "and is right" saved_ok
+
+# A slow acknowledge below the timeout: 0.9 s for one parameter, 20 ms for
+# each of a whole blob.
+slow=0
+knob ack_latency_us 900000
+ok "ack 0.9 s: write calibbias" sh -c "echo -47 >$DEV/in_accel_x_calibbias"
+is "ack 0.9 s: calibbias reads back" "$(cat "$DEV/in_accel_x_calibbias")" -47
+is "parameter 27 is Table 1's" "$(dbg_get params 27)" 0xbcbbe447
+ok "chip running" chip_idle
+knob ack_latency_us 20000
+ok "ack 20 ms: restore" restore "$TMP/blob0"
+ok "and the chip holds the blob" restored_ok "$TMP/blob0"
+ok "ack 20 ms: save" save
+ok "and is right" saved_ok
+ok "chip running" chip_idle
+slow=4
+knob ack_latency_us 500
+ok "ack 500 us again: restore" restore "$TMP/orig"
+ok "and the chip holds the blob" restored_ok "$TMP/orig"
+
+is "the simulator counted every NACK" "$(dbg_get stats nacks)" $nacks
+total=$((nacks + timeouts + slow))
+echo "# faults injected: $total ($nacks NACKs, $timeouts never acknowledged, $slow slow acknowledges)"
+ok "faults injected: $total" [ $nacks -ge $((73 + 73 + 11 + 1)) ]
+
+rm -rf "$TMP"
+done_testing
