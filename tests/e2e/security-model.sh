@@ -1,0 +1,355 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# The threat model of Documentation/iio/sentral.rst ("Security"), one check
+# per claim: who may read and write each attribute and device node, what an
+# unprivileged user (uid 65534 through setpriv) can and cannot do, how the
+# tool treats its state directory and files (modes, symlinks at the file and
+# at its temporary name, ownership, sizes, FIFOs, atomic replace), what a
+# forged file can and cannot do, and what a lying chip can do to the driver.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
+
+NOBODY=(setpriv --reuid=65534 --regid=65534 --clear-groups)
+as_nobody() {
+	"${NOBODY[@]}" "$@"
+}
+served() {
+	dbg_get stats params_served
+}
+# The stat mode, owner and group of a path.
+perm() {
+	stat -c '%a %U %G' "$1"
+}
+
+ok "setpriv is available" command -v setpriv
+is "setpriv drops to uid 65534" "$(as_nobody id -u)" 65534
+DEV=$(em7180_dir)
+ok "an em7180 IIO device is present" test -n "$DEV"
+client=$(basename "$(dirname "$(readlink -f "$DEV")")")
+bus=$(sim_bus)
+key=$(sentral-warmstart status --json | json_field key)
+f=$STATE/$key.ws
+
+# --- Attribute and node modes --------------------------------------------
+is "warmstart is 0600 root" "$(perm "$DEV/warmstart")" "600 root root"
+for a in calibration_status calibration_score mag_transient gyro_bias_update \
+	mag_calibration_update product_id revision_id rom_version ram_version; do
+	is "$a is 0444" "$(perm "$DEV/$a")" "444 root root"
+done
+for a in in_accel_x_calibbias in_accel_sampling_frequency \
+	in_magn_sampling_frequency buffer0/enable buffer0/in_accel_x_en \
+	trigger/current_trigger; do
+	is "$a is 0644 root" "$(perm "$DEV/$a")" "644 root root"
+done
+is "/dev/iio:device is 0600 root" "$(perm "/dev/$(basename "$DEV")")" \
+	"600 root root"
+is "/dev/i2c-$bus is 0600 root" "$(perm "/dev/i2c-$bus")" "600 root root"
+is "debugfs is 0700 root" "$(perm /sys/kernel/debug)" "700 root root"
+nok "the udev rule sets no device node mode" \
+	grep -qE '^[^#]*(MODE|OWNER|GROUP)' "$SENTRAL_ROOT"/tools/sentral-warmstart/udev/*.rules*
+
+ok "the driver adds no debugfs files (no register access)" \
+	test ! -e "/sys/kernel/debug/iio/$(basename "$DEV")"
+# The IIO core makes every info attribute root-writable; only
+# sampling_frequency and calibbias take a write, within their range.
+knob stats 0
+nok "root: writing in_accel_x_raw fails" sh -c "echo 1 >$DEV/in_accel_x_raw"
+nok "root: writing in_accel_scale fails" sh -c "echo 1 >$DEV/in_accel_scale"
+nok "root: calibbias out of range fails" sh -c "echo 40000 >$DEV/in_accel_x_calibbias"
+is "none of them reached the chip" "$(dbg_get stats transactions)" 0
+
+# --- What an unprivileged user cannot do ---------------------------------
+knob stats 0
+nok "nobody cannot read warmstart" as_nobody dd if="$DEV/warmstart" of=/dev/null bs=4096 count=1
+head -c 140 /dev/zero >/tmp/zero.blob
+nok "nobody cannot write warmstart" as_nobody dd if=/tmp/zero.blob of="$DEV/warmstart" bs=140 count=1
+is "no parameter transferred" "$(served)" 0
+bias=$(cat "$DEV/in_accel_x_calibbias")
+freq=$(cat "$DEV/in_accel_sampling_frequency")
+nok "nobody cannot write calibbias" as_nobody sh -c "echo 7 >$DEV/in_accel_x_calibbias"
+is "calibbias unchanged" "$(cat "$DEV/in_accel_x_calibbias")" "$bias"
+nok "nobody cannot write sampling_frequency" \
+	as_nobody sh -c "echo 50 >$DEV/in_accel_sampling_frequency"
+is "sampling_frequency unchanged" "$(cat "$DEV/in_accel_sampling_frequency")" "$freq"
+nok "nobody cannot enable a scan element" as_nobody sh -c "echo 1 >$DEV/buffer0/in_accel_x_en"
+nok "nobody cannot enable the buffer" as_nobody sh -c "echo 1 >$DEV/buffer0/enable"
+nok "nobody cannot set the trigger" as_nobody sh -c "echo x >$DEV/trigger/current_trigger"
+nok "nobody cannot open the IIO character device" \
+	as_nobody dd if="/dev/$(basename "$DEV")" of=/dev/null bs=1 count=1
+nok "nobody cannot open i2c-dev" as_nobody dd if="/dev/i2c-$bus" of=/dev/null bs=1 count=1
+nok "nobody cannot reach debugfs (simulator, regmap)" as_nobody ls /sys/kernel/debug/
+nok "nobody cannot unbind the driver" \
+	as_nobody sh -c "echo $client >/sys/bus/i2c/drivers/em7180/unbind"
+ok "the driver is still bound" test -e "$DEV/name"
+
+# --- What an unprivileged user can do ------------------------------------
+ok "nobody can read calibration_status" as_nobody cat "$DEV/calibration_status"
+ok "nobody can read calibration_score" as_nobody cat "$DEV/calibration_score"
+is "nobody can read the chip identity" "$(as_nobody cat "$DEV/product_id")" 0x80
+ok "nobody can read a raw sample" as_nobody cat "$DEV/in_accel_z_raw"
+ok "nobody can read calibbias" as_nobody cat "$DEV/in_accel_x_calibbias"
+# gyro_bias_update and mag_calibration_update clear when read, by anyone.
+knob gbias_period_ms 1000
+nobody_sees_gbias() {
+	[ "$(as_nobody cat "$DEV/gyro_bias_update")" = 1 ]
+}
+ok "nobody reads a latched gyro_bias_update" wait_for 5 nobody_sees_gbias
+is "and so consumes it: root reads 0" "$(cat "$DEV/gyro_bias_update")" 0
+knob gbias_period_ms 600000
+
+# --- State directory and files -------------------------------------------
+# Created 0700 / 0600 whatever the umask.
+rm -rf "$STATE"
+ok "save with umask 000" sh -c 'umask 000; exec sentral-warmstart save --force'
+is "state dir created 0700 root" "$(perm "$STATE")" "700 root root"
+is "state file created 0600 root" "$(perm "$f")" "600 root root"
+nok "nobody cannot list the state dir" as_nobody ls "$STATE"
+nok "nobody cannot read the state file" as_nobody cat "$f"
+chmod 0755 "$STATE"
+ok "save into a root-owned 0755 state dir" sentral-warmstart save --force
+is "which the tool tightens to 0700" "$(perm "$STATE")" "700 root root"
+
+# The tool gives an unprivileged user nothing: it is not setuid.
+is "the tool is not setuid or setgid" \
+	"$(find "$(command -v sentral-warmstart)" -perm /6000 | wc -l)" 0
+knob stats 0
+nok "nobody: save fails" as_nobody sentral-warmstart save --force --file /tmp/nobody.ws
+nok "and writes no file" test -e /tmp/nobody.ws
+nok "nobody: restore fails" as_nobody sentral-warmstart restore
+is "and transfers no parameter" "$(served)" 0
+
+# A real calibration to work with.
+ok "calibrate by simulated motion" calibrate_by_motion
+ok "save it" sentral-warmstart save --force
+cp -p "$f" /tmp/good.ws
+
+# restore_refused DESC EXIT ARGS...: the tool exits EXIT within 20 s, and
+# no parameter reaches the chip.
+restore_refused() {
+	local desc=$1 want=$2 before out rc
+	shift 2
+	before=$(served)
+	out=$(timeout 20 sentral-warmstart restore "$@" 2>&1)
+	rc=$?
+	is "$desc: exit $want" "$rc" "$want"
+	is "$desc: the chip is not touched" "$(served)" "$before"
+	[ "$rc" = "$want" ] || echo "$out" | sed 's/^/#   /'
+}
+
+# Symlinks at the state file path: never followed, on save or on restore.
+echo precious >/tmp/victim
+rm -f "$f"
+ln -s /tmp/victim "$f"
+out=$(sentral-warmstart save --force 2>&1)
+is "save through a symlink at the state path: exit 3" $? 3
+is "the link target is untouched" "$(cat /tmp/victim)" precious
+ok "the link is still a link" test -L "$f"
+rm -f "$f"
+ln -s /tmp/good.ws "$f"
+restore_refused "restore through a symlink to a valid file" 3
+rm -f "$f"
+ln -s /tmp/absent.ws "$f"
+out=$(sentral-warmstart save --force 2>&1)
+is "save through a dangling symlink: exit 3" $? 3
+nok "its target is not created" test -e /tmp/absent.ws
+rm -f "$f"
+cp -p /tmp/good.ws "$f"
+
+# A symlink planted at the temporary file's name. The name is random: a
+# getrandom() shim makes the first N calls return zeros, so the name is
+# known (".KEY.ws.00000000.tmp").
+cat >/tmp/zero-rand.c <<'EOF'
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+
+ssize_t getrandom(void *buf, size_t len, unsigned int flags)
+{
+	static ssize_t (*real)(void *, size_t, unsigned int);
+	static int calls;
+	const char *n = getenv("ZERO_RAND_CALLS");
+
+	if (calls++ < (n ? atoi(n) : 0)) {
+		memset(buf, 0, len);
+		return (ssize_t)len;
+	}
+	if (!real)
+		real = (ssize_t (*)(void *, size_t, unsigned int))
+			dlsym(RTLD_NEXT, "getrandom");
+	return real(buf, len, flags);
+}
+EOF
+ok "build the getrandom shim" cc -shared -fPIC -o /tmp/zero-rand.so /tmp/zero-rand.c -ldl
+tmpname=$STATE/.$key.ws.00000000.tmp
+ln -s /tmp/victim "$tmpname"
+out=$(LD_PRELOAD=/tmp/zero-rand.so ZERO_RAND_CALLS=1000 sentral-warmstart save --force 2>&1)
+is "the shim pins the name: every attempt collides, save fails (exit 5)" $? 5
+like "with EEXIST" "$out" "temporary file: File exists"
+out=$(LD_PRELOAD=/tmp/zero-rand.so ZERO_RAND_CALLS=1 sentral-warmstart save --force 2>&1)
+is "a symlink at the first temporary name: save takes another name (exit 0)" $? 0
+is "the link target is untouched" "$(cat /tmp/victim)" precious
+ok "the planted link is left alone" test -L "$tmpname"
+tail -c +33 "$f" | head -c 140 >/tmp/saved.blob
+dd if="$DEV/warmstart" of=/tmp/chip.blob bs=4096 count=1 status=none
+ok "the state file holds the chip's blob" cmp /tmp/saved.blob /tmp/chip.blob
+rm -f "$tmpname"
+rm -f /tmp/victim
+
+# Atomic replace: a reader of the old file keeps a complete old file.
+cp "$f" /tmp/old.ws
+ino=$(stat -c %i "$f")
+exec 3<"$f"
+ok "save --force over an existing file" sentral-warmstart save --force
+ok "an open reader still sees the complete old file" cmp - /tmp/old.ws <&3
+exec 3<&-
+ok "the file was replaced, not rewritten in place" test "$(stat -c %i "$f")" != "$ino"
+is "nothing but the state file: no temporary or lock file" "$(ls -A "$STATE")" "$key.ws"
+# A write that fails (ENOSPC) leaves the old file as it was.
+mkdir -p /tmp/full
+mount -t tmpfs -o size=8k,mode=0700 tmpfs /tmp/full
+ok "save into a small state dir" sentral-warmstart --state-dir /tmp/full save --force
+cp "/tmp/full/$key.ws" /tmp/full-old.ws
+dd if=/dev/zero of=/tmp/full/filler bs=1k count=64 status=none 2>/dev/null
+out=$(sentral-warmstart --state-dir /tmp/full save --force 2>&1)
+is "save on a full file system: exit 5" $? 5
+ok "the old file is intact" cmp "/tmp/full/$key.ws" /tmp/full-old.ws
+is "no temporary file left" "$(ls -A /tmp/full | grep -c '\.tmp$')" 0
+umount /tmp/full
+
+# A state dir that is a symlink.
+mv "$STATE" /var/lib/sw.real
+mkdir -m 0700 /tmp/evil
+cp -p /tmp/good.ws /tmp/evil/
+mv "/tmp/evil/good.ws" "/tmp/evil/$key.ws"
+ln -s /tmp/evil "$STATE"
+out=$(sentral-warmstart save --force 2>&1)
+is "save through a state dir that is a symlink: exit 3" $? 3
+rm "$STATE"
+mv /var/lib/sw.real "$STATE"
+ok "the good file restores again" sentral-warmstart restore
+
+# Wrong sizes and types: refused at once, at most 4 KiB read.
+truncate -s 1T /tmp/huge.ws
+restore_refused "a 1 TiB sparse file" 3 --file /tmp/huge.ws
+: >/tmp/empty.ws
+restore_refused "an empty file" 3 --file /tmp/empty.ws
+restore_refused "/dev/zero" 3 --file /dev/zero
+restore_refused "a directory" 3 --file /tmp/evil
+mkfifo -m 0600 /tmp/fifo.ws
+restore_refused "a FIFO with no writer" 3 --file /tmp/fifo.ws
+mv "$f" /tmp/good2.ws
+mkfifo -m 0600 "$f"
+restore_refused "a FIFO at the state path" 3
+out=$(timeout 20 sentral-warmstart save --force 2>&1)
+is "save over a FIFO at the state path: exit 3" $? 3
+ok "the FIFO is left alone" test -p "$f"
+rm -f "$f"
+mkdir -m 0700 "$f"
+out=$(timeout 20 sentral-warmstart save --force 2>&1)
+is "save over a directory at the state path: exit 3" $? 3
+rmdir "$f"
+mv /tmp/good2.ws "$f"
+
+# forge FILE OFFSET STRUCT-FORMAT VALUE: rewrite a field and fix the CRC,
+# as anyone who can write the file can.
+forge() {
+	python3 - "$f" "$@" <<'EOF'
+import sys, zlib, struct
+src, dst, off, fmt, val = sys.argv[1:6]
+b = bytearray(open(src, 'rb').read())
+off = int(off)
+struct.pack_into(fmt, b, off, int(val, 0))
+b[172:176] = struct.pack('<I', zlib.crc32(bytes(b[:172])))
+open(dst, 'wb').write(b)
+EOF
+}
+# Checked fields: refused with a valid CRC, nothing written.
+for case in "magic:0:<B:0" "version 2:8:<H:2" "payload size 139:28:<H:139" \
+	"reserved byte:17:<B:1" "param 1 +Inf:32:<I:0x7f800000" "param 20 signalling NaN:108:<I:0x7f800001" \
+	"param 35 -Inf:168:<I:0xff800000" "ProductID 0x81:10:<B:0x81" \
+	"ROM version 0x1234:12:<H:0x1234" "calibration status 4:16:<B:4"; do
+	IFS=: read -r desc off fmt val <<<"$case"
+	forge /tmp/forged.ws "$off" "$fmt" "$val"
+	restore_refused "$desc with a valid CRC" 3 --file /tmp/forged.ws
+done
+forge /tmp/forged.ws 32 '<I' 0x7f800000
+restore_refused "--force does not override the file checks" 3 --file /tmp/forged.ws --force
+forge /tmp/forged.ws 10 '<B' 0x81
+before=$(served)
+out=$(sentral-warmstart restore --file /tmp/forged.ws --force 2>&1)
+ok "--force overrides the identity check" test "$(served)" -gt "$before"
+# The driver refuses a non-finite blob itself, before any bus transaction.
+tail -c +33 /tmp/good.ws | head -c 140 >/tmp/inf.blob
+printf '\x00\x00\x80\x7f' | dd of=/tmp/inf.blob bs=1 seek=76 conv=notrunc status=none
+tail -c +33 /tmp/good.ws | head -c 140 >/tmp/nan.blob
+printf '\x01\x00\xc0\xff' | dd of=/tmp/nan.blob bs=1 seek=136 conv=notrunc status=none
+knob stats 0
+nok "root: a warmstart write with +Inf fails" dd if=/tmp/inf.blob of="$DEV/warmstart" bs=140 count=1
+nok "root: a warmstart write with a NaN fails" dd if=/tmp/nan.blob of="$DEV/warmstart" bs=140 count=1
+is "and no bus transaction happened" "$(dbg_get stats transactions)" 0
+# What a forged but well-formed file can do: any finite parameters 1..35,
+# nothing else.
+params=$(cat "$SIM_DBG/params")
+forge /tmp/forged.ws 104 '<I' 0x7e967699   # param 19 = 1e38
+out=$(sentral-warmstart restore --file /tmp/forged.ws 2>&1)
+is "a forged finite calibration is written (CRC is no authentication)" \
+	"$(sim_param 19)" 0x7e967699
+is "parameters outside 1..35 are never written" \
+	"$(awk '$1 > 35' "$SIM_DBG/params")" "$(awk '$1 > 35' <<<"$params")"
+ok "the good file restores again" sentral-warmstart restore --file /tmp/good.ws
+
+# --- A lying chip --------------------------------------------------------
+# Never acknowledges: each access ends within about 1 s, chip running.
+knob ack_never 1
+t0=$(date +%s%N)
+nok "warmstart read with a chip that never acknowledges fails" \
+	dd if="$DEV/warmstart" of=/dev/null bs=4096 count=1
+ms=$((($(date +%s%N) - t0) / 1000000))
+ok "within 3 s ($ms ms)" test "$ms" -lt 3000
+is "transfer mode ended" "$(dbg_get state transfer)" 0
+is "algorithm running" "$(dbg_get state running)" 1
+t0=$(date +%s%N)
+out=$(timeout 20 sentral-warmstart restore --file /tmp/good.ws 2>&1)
+is "restore with a chip that never acknowledges: exit 5" $? 5
+ms=$((($(date +%s%N) - t0) / 1000000))
+ok "within 3 s ($ms ms)" test "$ms" -lt 3000
+knob ack_never 0
+# NACKs: an error, never a hang.
+knob nack_at 1
+nok "warmstart read with a NACK fails" dd if="$DEV/warmstart" of=/dev/null bs=4096 count=1
+is "transfer mode ended" "$(dbg_get state transfer)" 0
+# A chip that hands out a NaN: the driver passes it to root only, the tool
+# refuses to save it.
+i2ctransfer -f -y "$bus" w2@0x28 0x54 0x80
+i2ctransfer -f -y "$bus" w6@0x28 0x60 0x00 0x00 0xc0 0x7f 0x94
+sleep 0.1
+i2ctransfer -f -y "$bus" w2@0x28 0x64 0x00
+i2ctransfer -f -y "$bus" w2@0x28 0x54 0x00
+is "the chip now holds a NaN in parameter 20" "$(sim_param 20)" 0x7fc00000
+is "the driver hands it to root as it is" \
+	"$(dd if="$DEV/warmstart" bs=4096 count=1 status=none | blob_words | awk '{ print $20 }')" \
+	0x7fc00000
+out=$(sentral-warmstart save --force --file /tmp/nan.ws 2>&1)
+is "save of a NaN read from the chip: exit 5" $? 5
+like "and says why" "$out" "not a finite number; not saving"
+nok "no file written" test -e /tmp/nan.ws
+# A firmware upload that never completes: probe gives up in bounded time.
+echo "$client" >/sys/bus/i2c/drivers/em7180/unbind
+knob upload_ms 10000
+knob power_cycle 1
+t0=$(date +%s%N)
+nok "bind while the upload never completes fails" \
+	sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
+ms=$((($(date +%s%N) - t0) / 1000000))
+ok "within 12 s ($ms ms)" test "$ms" -lt 12000
+nok "no IIO device" em7180_dir
+knob upload_ms 10
+knob power_cycle 1
+ok "the chip uploads again" wait_for 5 sim_ready
+ok "bind works again" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
+ok "and the device is back" wait_for 5 em7180_dir
+
+done_testing
