@@ -134,6 +134,41 @@ static int parse_uint(const char *opt, const char *s, unsigned long lo,
 	return SW_EXIT_OK;
 }
 
+/*
+ * getopt's complaint, naming the option itself. argv[optind - 1] is the
+ * offending argument only when getopt has finished with it, which a long
+ * option always is but an unknown letter inside a cluster ("-hx") is not:
+ * then it may be the previous argument or the program name, and optopt
+ * is the letter.
+ */
+static int bad_option(int c, char **argv, struct sw_err *e)
+{
+	const char *arg = argv[optind - 1];
+	unsigned char ch = (unsigned char)optopt;
+	size_t i;
+
+	/* Past the end of the last argument: that argument is the option. */
+	if (c == ':') {
+		if (!strncmp(arg, "--", 2))
+			return sw_err_set(e, SW_EXIT_USAGE,
+					  "option '%s' needs an argument", arg);
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "option '-%c' needs an argument", ch);
+	}
+	/* optopt is 0 for an unknown or ambiguous long option. */
+	if (!optopt)
+		return sw_err_set(e, SW_EXIT_USAGE, "unknown option '%s'", arg);
+	/* A known option's value: "--name=ARG" on an option without one. */
+	for (i = 0; long_opts[i].name; i++)
+		if (long_opts[i].val == optopt)
+			return sw_err_set(e, SW_EXIT_USAGE,
+					  "option '--%s' takes no argument",
+					  long_opts[i].name);
+	if (ch > ' ' && ch < 0x7f)
+		return sw_err_set(e, SW_EXIT_USAGE, "unknown option '-%c'", ch);
+	return sw_err_set(e, SW_EXIT_USAGE, "unknown option '-\\x%02x'", ch);
+}
+
 static const char *command_name(enum sw_command cmd)
 {
 	size_t i;
@@ -184,11 +219,33 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 	return SW_EXIT_OK;
 }
 
+/* A non-option: the command, or show's FILE. */
+static int operand(const char *arg, struct sw_opts *o, const char **show_file,
+		   struct sw_err *e)
+{
+	size_t i;
+
+	if (o->cmd == SW_CMD_NONE) {
+		for (i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
+			if (!strcmp(arg, commands[i].name))
+				o->cmd = commands[i].cmd;
+		if (o->cmd == SW_CMD_NONE)
+			return sw_err_set(e, SW_EXIT_USAGE,
+					  "unknown command '%s'", arg);
+	} else if (o->cmd == SW_CMD_SHOW && !*show_file) {
+		*show_file = arg;
+	} else {
+		return sw_err_set(e, SW_EXIT_USAGE, "unexpected argument '%s'",
+				  arg);
+	}
+	return SW_EXIT_OK;
+}
+
 int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 {
 	bool seen[OPT_SAMPLES + 1] = { false };
 	const char *show_file = NULL;
-	int c, i, ret;
+	int c, next, ret;
 
 	memset(o, 0, sizeof(*o));
 	o->address = 0x28;
@@ -201,27 +258,33 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 	/* Re-initialise getopt: the parser may run more than once (tests). */
 	optind = 0;
 	opterr = 0;
-	while ((c = getopt_long(argc, argv, "+:d:f:hV", long_opts, NULL)) != -1 ||
-	       optind < argc) {
-		if (c == -1) {
-			/* A non-option: the command or show's FILE. */
-			const char *arg = argv[optind++];
-
-			if (o->cmd == SW_CMD_NONE) {
-				for (i = 0; i < (int)(sizeof(commands) /
-						       sizeof(commands[0])); i++)
-					if (!strcmp(arg, commands[i].name))
-						o->cmd = commands[i].cmd;
-				if (o->cmd == SW_CMD_NONE)
-					return sw_err_set(e, SW_EXIT_USAGE,
-							  "unknown command '%s'",
-							  arg);
-			} else if (o->cmd == SW_CMD_SHOW && !show_file) {
-				show_file = arg;
-			} else {
-				return sw_err_set(e, SW_EXIT_USAGE,
-						  "unexpected argument '%s'", arg);
+	for (;;) {
+		/*
+		 * "--" is handled here, not by getopt: getopt ends its scan at
+		 * it, but the next call after an operand would go on parsing
+		 * options, and a second "--" makes it reorder argv even in
+		 * "+" mode. optind only ever points at a whole argument here
+		 * (inside a cluster it points at the cluster, never "--").
+		 */
+		next = optind ? optind : 1;
+		if (next >= argc)
+			break;
+		if (!strcmp(argv[next], "--")) {
+			for (next++; next < argc; next++) {
+				ret = operand(argv[next], o, &show_file, e);
+				if (ret)
+					return ret;
 			}
+			break;
+		}
+		c = getopt_long(argc, argv, "+:d:f:hV", long_opts, NULL);
+		if (c == -1) {
+			/* "+": getopt stops at the first non-option. */
+			if (optind >= argc)
+				break;
+			ret = operand(argv[optind++], o, &show_file, e);
+			if (ret)
+				return ret;
 			continue;
 		}
 		if (c > 0 && c <= OPT_SAMPLES)
@@ -275,14 +338,8 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 		case OPT_VERSION:
 			o->version = true;
 			break;
-		case ':':
-			return sw_err_set(e, SW_EXIT_USAGE,
-					  "option '%s' needs an argument",
-					  argv[optind - 1]);
 		default:
-			return sw_err_set(e, SW_EXIT_USAGE,
-					  "unknown option '%s'",
-					  argv[optind - 1]);
+			return bad_option(c, argv, e);
 		}
 		if (ret)
 			return ret;

@@ -90,6 +90,39 @@ static void test_good(void **state)
 	assert_string_equal(o.device, "em7180");
 }
 
+/*
+ * "--" ends the options. Found by fuzz/fuzz_cli: options after an operand
+ * that followed "--" were still parsed, and a second "--" made getopt
+ * reorder argv.
+ */
+static void test_end_of_options(void **state)
+{
+	char *argv[] = { "sentral-warmstart", "show", "--", "a", "--", "b",
+			 NULL };
+	char *copy[sizeof(argv) / sizeof(argv[0])];
+	struct sw_opts o;
+	struct sw_err e;
+
+	(void)state;
+	assert_int_equal(parse(&o, &e, "show", "--", "--json", NULL),
+			 SW_EXIT_OK);
+	assert_string_equal(o.file, "--json");
+	assert_false(o.json);
+	assert_int_equal(parse(&o, &e, "--", "status", NULL), SW_EXIT_OK);
+	assert_int_equal(o.cmd, SW_CMD_STATUS);
+	assert_int_equal(parse(&o, &e, "-d", "--", "status", NULL), SW_EXIT_OK);
+	assert_string_equal(o.device, "--");
+	assert_int_equal(parse(&o, &e, "show", "--", "a", "--json", NULL),
+			 SW_EXIT_USAGE);
+	assert_string_equal(e.msg, "unexpected argument '--json'");
+
+	memcpy(copy, argv, sizeof(argv));
+	sw_err_clear(&e);
+	assert_int_equal(sw_parse_args(6, argv, &o, &e), SW_EXIT_USAGE);
+	assert_string_equal(e.msg, "unexpected argument '--'");
+	assert_memory_equal(copy, argv, sizeof(argv));
+}
+
 static void expect_usage(const char *want, ...)
 {
 	char *argv[MAXARGS + 1] = { "sentral-warmstart" };
@@ -118,6 +151,20 @@ static void test_errors(void **state)
 	expect_usage("unknown command 'frobnicate'", "frobnicate", NULL);
 	expect_usage("unknown option '--bogus'", "status", "--bogus", NULL);
 	expect_usage("needs an argument", "status", "--device", NULL);
+	/*
+	 * Found by fuzz/fuzz_cli: an unknown letter inside a cluster was
+	 * reported as the previous argument (here the program name).
+	 */
+	expect_usage("unknown option '-Z'", "-hZ", "status", NULL);
+	expect_usage("unknown option '--'", "-h-hV", NULL);
+	expect_usage("unknown option '-j'", "status", "-jh", NULL);
+	expect_usage("unknown option '-\\x01'", "status", "-h\x01", NULL);
+	expect_usage("option '-f' needs an argument", "show", "x", "-hf", NULL);
+	expect_usage("option '--file' needs an argument", "save", "--file",
+		     NULL);
+	expect_usage("option '--force' takes no argument", "--force=1", "save",
+		     NULL);
+	expect_usage("unknown option '--f'", "--f", "save", NULL);
 	expect_usage("exclude each other", "--device", "a", "--i2c",
 		     "/dev/i2c-0", "status", NULL);
 	expect_usage("--address is only meaningful", "--address", "0x28",
@@ -152,6 +199,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_defaults),
 		cmocka_unit_test(test_good),
+		cmocka_unit_test(test_end_of_options),
 		cmocka_unit_test(test_errors),
 	};
 
