@@ -4,7 +4,8 @@
 #
 # Sensor data of the simulated EM7180: accel gravity + bias and the seed's
 # Table 1 offsets, gyro bias + noise, mag field, quaternion, timestamps
-# counting samples, EventStatus bits for enabled events, sample accounting.
+# counting samples, EventStatus bits for enabled events, sample accounting
+# (read, missed, gaps).
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/sim/testlib.sh"
 
@@ -104,6 +105,22 @@ ok "$n accel samples in $ms ms: no more than one per ms" [ "$n" -le $((ms + 1)) 
 ok "at least half the nominal rate" [ "$n" -ge 500 ]
 ok "accel and gyro produced together" [ "$(dbg_get samples gyro)" = "$n" ]
 echo "# 1 kHz for $ms ms: $n accel samples, $late late timer callbacks"
+
+# Gaps: the samples a streaming host skipped between two reads of a block,
+# not those made before its first read after a reset.
+knob samples 0
+ok "run" sim_wr 0x34 0x01
+sleep 0.1
+ok "stop" sim_wr 0x34 0x00
+ok "read the accel block" sim_rd 0x1a 6
+is "no gap counted before the first read" "$(dbg_get samples accel_gaps)" 0
+n=$(dbg_get samples accel)
+ok "run" sim_wr 0x34 0x01
+sleep 0.1
+ok "stop" sim_wr 0x34 0x00
+ok "read the accel block again" sim_rd 0x1a 6
+is "gaps = samples produced between the two reads" \
+	"$(dbg_get samples accel_gaps)" $(($(dbg_get samples accel) - n - 1))
 
 # INT pin: high while an enabled event is pending, cleared by reading
 # EventStatus; the irq_sim line gets one rising edge per low-to-high change.

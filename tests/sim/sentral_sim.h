@@ -101,6 +101,8 @@ struct sim_stream {
 	u64 produced;
 	u64 read;
 	u64 missed;
+	u64 read_seq;		/* produced count at the last read; 0: none */
+	u64 gaps;		/* samples skipped between two reads */
 };
 
 struct sim_stats {

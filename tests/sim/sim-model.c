@@ -683,6 +683,10 @@ static void sim_mark_read(struct sentral_sim *sim, u8 reg)
 	if (st->unread) {
 		st->unread = false;
 		st->read++;
+		/* a host that streams sees these as gaps in the sequence */
+		if (st->read_seq)
+			st->gaps += st->produced - st->read_seq - 1;
+		st->read_seq = st->produced;
 	}
 }
 
