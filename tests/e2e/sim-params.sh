@@ -17,6 +17,7 @@ is "default param 24 (acoeffs 1.0f)" "$(param_get 24)" 0x3f800000
 is "default param 74 (mag 1000 uT, accel 8 g)" "$(param_get 74)" 0x000803e8
 is "default param 75 (gyro 2000 dps)" "$(param_get 75)" 0x000007d0
 
+is "state: no transfer ended yet" "$(dbg_get state transfer_ended_us)" 0
 knob stats 0
 ok "set AlgorithmControl bit 7" param_begin
 is "state: in transfer mode" "$(dbg_get state transfer)" 1
@@ -34,8 +35,13 @@ is "debugfs params shows the write" "$(param_get 40)" 0x12345678
 is "read back through the protocol" "$(param_read 40)" 0x12345678
 ok "write param 1 = -1.5f" param_write 1 0xbfc00000
 is "debugfs params 1" "$(param_get 1)" 0xbfc00000
+mono_us() { python3 -c 'import time; print(time.monotonic_ns() // 1000)'; }
+t0=$(mono_us)
 ok "end: ParamRequest 0, bit 7 clear" param_end
 is "state: transfer mode ended" "$(dbg_get state transfer)" 0
+t1=$(dbg_get state transfer_ended_us) t2=$(mono_us)
+ok "state: transfer_ended_us on CLOCK_MONOTONIC, when bit 7 was cleared" \
+	[ "$t0" -le "$t1" -a "$t1" -le "$t2" ]
 is "ack reads 0 after the end" "$(sim_rd 0x3a)" 0x00
 is "AlgorithmControl 0" "$(sim_rd 0x54)" 0x00
 is "parameters served" "$(dbg_get stats params_served)" 5

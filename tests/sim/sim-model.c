@@ -788,6 +788,7 @@ static void sim_write_algo_control(struct sentral_sim *sim, u8 val,
 		/* end of the procedure (§2 "End") */
 		sim->req_pending = false;
 		sim->param_ack = 0;
+		sim->transfer_ended = now;
 	}
 }
 
