@@ -116,14 +116,24 @@ static void fmt_time(uint64_t t, char *buf, size_t len)
 }
 
 /*
+ * The state file is trusted only in a directory that is ours alone; a file
+ * named with --file must still be ours (see enum sw_read_mode).
+ */
+static enum sw_read_mode read_mode(const struct sw_opts *o)
+{
+	return o->file ? SW_READ_OWNED : SW_READ_STATE;
+}
+
+/*
  * Load the existing file at path, if any. Returns SW_EXIT_OK with
  * *have = true and *f filled when it is valid and made for this chip;
  * SW_EXIT_OK with *have = false when it is missing or not usable (why
  * says which); an error only when it must not be touched at all.
  */
-static int load_existing(const char *path, const struct sw_chip_info *chip,
-			 struct sw_file *f, bool *have, char *why,
-			 size_t why_len, struct sw_err *e)
+static int load_existing(const struct sw_opts *o, const char *path,
+			 const struct sw_chip_info *chip, struct sw_file *f,
+			 bool *have, char *why, size_t why_len,
+			 struct sw_err *e)
 {
 	uint8_t buf[SW_FILE_MAX_READ + 1];
 	enum sw_file_check c;
@@ -135,7 +145,7 @@ static int load_existing(const char *path, const struct sw_chip_info *chip,
 	*have = false;
 	why[0] = '\0';
 	sw_err_clear(&rerr);
-	if (sw_file_read(path, true, buf, &len, &err, &rerr)) {
+	if (sw_file_read(path, read_mode(o), buf, &len, &err, &rerr)) {
 		if (err == ENOENT)
 			return SW_EXIT_OK;
 		return sw_err_set(e, rerr.code, "%s", rerr.msg);
@@ -171,7 +181,7 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 				  "%s: parameter %d (%s) read from the chip is not a finite number; not saving",
 				  b->name, bad, sw_param_name(bad));
 	sw_file_path(o, b, path, sizeof(path));
-	ret = load_existing(path, &nf.chip, &old, &pin.have_old, oldwhy,
+	ret = load_existing(o, path, &nf.chip, &old, &pin.have_old, oldwhy,
 			    sizeof(oldwhy), e);
 	if (ret)
 		return ret;
@@ -193,7 +203,7 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 	nf.saved_at = env->wall_s(env->clk);
 	memcpy(nf.payload, blob, SW_BLOB_SIZE);
 	sw_file_encode(&nf, out);
-	ret = sw_file_write_atomic(path, out, sizeof(out), e);
+	ret = sw_file_write_atomic(path, out, sizeof(out), !o->file, e);
 	if (ret)
 		return ret;
 	sw_note(env, "saved %s calibration to %s: %s", b->name, path, why);
@@ -239,7 +249,7 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 
 	sw_file_path(o, b, path, sizeof(path));
 	sw_err_clear(&rerr);
-	if (sw_file_read(path, true, buf, &len, &err, &rerr)) {
+	if (sw_file_read(path, read_mode(o), buf, &len, &err, &rerr)) {
 		if (err == ENOENT && o->if_present) {
 			sw_note(env, "no saved calibration for %s (%s); nothing to restore",
 				b->name, path);
@@ -326,7 +336,7 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 	sw_err_clear(&cerr);
 	have_chip = b->ops->chip_info(b, &chip, &cerr) == SW_EXIT_OK;
 	sw_file_path(o, b, path, sizeof(path));
-	ret = load_existing(path, have_chip ? &chip : NULL, &f, &have_file,
+	ret = load_existing(o, path, have_chip ? &chip : NULL, &f, &have_file,
 			    why, sizeof(why), e);
 	if (ret)
 		return ret;
@@ -395,7 +405,7 @@ int sw_cmd_show(const struct sw_opts *o, struct sw_env *env,
 	int n;
 
 	/* Only reading: following a symlink the user named is harmless. */
-	if (sw_file_read(o->file, false, buf, &len, NULL, e))
+	if (sw_file_read(o->file, SW_READ_ANY, buf, &len, NULL, e))
 		return e->code;
 	c = sw_file_decode(buf, len, &f, detail, sizeof(detail));
 	if (c != SW_CHECK_OK)

@@ -222,39 +222,123 @@ const char *sw_param_name(int n)
 	return param_names[n];
 }
 
-int sw_file_read(const char *path, bool nofollow, uint8_t *buf,
+/* dir and base of path; base points into path. */
+static int split_path(const char *path, char *dir, size_t dir_len,
+		      const char **base, struct sw_err *e)
+{
+	const char *slash = strrchr(path, '/');
+
+	if (slash) {
+		size_t dlen = slash == path ? 1 : (size_t)(slash - path);
+
+		if (dlen >= dir_len)
+			return sw_err_set(e, SW_EXIT_USAGE, "%s: path too long",
+					  path);
+		memcpy(dir, path, dlen);
+		dir[dlen] = '\0';
+		*base = slash + 1;
+	} else {
+		snprintf(dir, dir_len, ".");
+		*base = path;
+	}
+	if (!**base || strlen(*base) > 200 || !strcmp(*base, ".") ||
+	    !strcmp(*base, ".."))
+		return sw_err_set(e, SW_EXIT_USAGE, "%s: not a file name", path);
+	return SW_EXIT_OK;
+}
+
+/* Owned by us and writable by nobody else, or why not. */
+static int check_owner(const char *what, const char *name,
+		       const struct stat *st, struct sw_err *e)
+{
+	if (st->st_uid != geteuid())
+		return sw_err_set(e, SW_EXIT_FILE,
+				  "%s: refused: %s owned by uid %u, not uid %u",
+				  name, what, (unsigned int)st->st_uid,
+				  (unsigned int)geteuid());
+	if (st->st_mode & 022)
+		return sw_err_set(e, SW_EXIT_FILE,
+				  "%s: refused: %s writable by group or others (mode %04o)",
+				  name, what, (unsigned int)(st->st_mode & 07777));
+	return SW_EXIT_OK;
+}
+
+static int open_error(const char *path, int err, int *errno_out,
+		      struct sw_err *e)
+{
+	if (errno_out)
+		*errno_out = err;
+	if (err == ELOOP)
+		return sw_err_set(e, SW_EXIT_FILE,
+				  "%s: is a symbolic link; refusing to follow it",
+				  path);
+	if (err == ENOENT)
+		return sw_err_set(e, SW_EXIT_FILE, "%s: file does not exist",
+				  path);
+	return sw_err_set(e, SW_EXIT_IO, "%s: %s", path, strerror(err));
+}
+
+int sw_file_read(const char *path, enum sw_read_mode mode, uint8_t *buf,
 		 size_t *len, int *errno_out, struct sw_err *e)
 {
 	int flags = O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK;
+	int dfd = AT_FDCWD, fd, ret;
+	const char *base = path;
+	char dir[4096];
 	struct stat st;
 	size_t got = 0;
 	ssize_t n;
-	int fd;
 
 	if (errno_out)
 		*errno_out = 0;
-	if (nofollow)
+	if (mode != SW_READ_ANY)
 		flags |= O_NOFOLLOW;
-	fd = open(path, flags);
-	if (fd < 0) {
-		int err = errno;
-
-		if (errno_out)
-			*errno_out = err;
-		if (err == ELOOP)
+	if (mode == SW_READ_STATE) {
+		ret = split_path(path, dir, sizeof(dir), &base, e);
+		if (ret)
+			return ret;
+		dfd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+		if (dfd < 0 && (errno == ELOOP || errno == ENOTDIR)) {
+			if (errno_out)
+				*errno_out = errno;
 			return sw_err_set(e, SW_EXIT_FILE,
-					  "%s: is a symbolic link; refusing to follow it",
-					  path);
-		if (err == ENOENT)
-			return sw_err_set(e, SW_EXIT_FILE,
-					  "%s: file does not exist",
-					  path);
-		return sw_err_set(e, SW_EXIT_IO, "%s: %s", path, strerror(err));
+					  "%s: not a directory or a symbolic link; refusing to read through it",
+					  dir);
+		}
+		if (dfd < 0)
+			return open_error(path, errno, errno_out, e);
+		if (fstat(dfd, &st) < 0) {
+			ret = sw_err_set(e, SW_EXIT_IO, "%s: %s", dir,
+					 strerror(errno));
+			close(dfd);
+			return ret;
+		}
+		ret = check_owner("directory", dir, &st, e);
+		if (ret) {
+			close(dfd);
+			return ret;
+		}
 	}
+	fd = openat(dfd, base, flags);
+	if (fd < 0) {
+		ret = open_error(path, errno, errno_out, e);
+		if (dfd >= 0)
+			close(dfd);
+		return ret;
+	}
+	if (dfd >= 0)
+		close(dfd);
 	if (fstat(fd, &st) < 0 || !S_ISREG(st.st_mode)) {
 		close(fd);
 		return sw_err_set(e, SW_EXIT_FILE, "%s: not a regular file",
 				  path);
+	}
+	if (mode != SW_READ_ANY) {
+		ret = check_owner("file", path, &st, e);
+		if (ret) {
+			close(fd);
+			return ret;
+		}
 	}
 	/* Read one byte more than allowed to notice an oversized file. */
 	while (got < SW_FILE_MAX_READ + 1) {
@@ -292,10 +376,10 @@ static int write_all(int fd, const uint8_t *buf, size_t len)
 	return 0;
 }
 
-static int open_state_dir(const char *dir, struct sw_err *e)
+static int open_dir(const char *dir, bool state_dir, struct sw_err *e)
 {
 	struct stat st;
-	int dfd;
+	int dfd, ret;
 
 	/* Only the last component is created: /var/lib must already exist. */
 	if (mkdir(dir, 0700) < 0 && errno != EEXIST)
@@ -310,43 +394,43 @@ static int open_state_dir(const char *dir, struct sw_err *e)
 		return -sw_err_set(e, SW_EXIT_IO, "%s: %s", dir,
 				   strerror(errno));
 	}
-	/* Saved calibrations are root's business alone. */
-	if (fstat(dfd, &st) == 0 && (st.st_mode & 077) &&
-	    st.st_uid == geteuid() && fchmod(dfd, 0700) < 0) {
+	if (!state_dir)
+		return dfd;
+	if (fstat(dfd, &st) < 0) {
+		ret = sw_err_set(e, SW_EXIT_IO, "%s: %s", dir, strerror(errno));
 		close(dfd);
-		return -sw_err_set(e, SW_EXIT_IO, "%s: chmod 0700: %s", dir,
-				   strerror(errno));
+		return -ret;
+	}
+	/* Someone else's directory: they could swap the file after us. */
+	if (st.st_uid != geteuid()) {
+		close(dfd);
+		return -sw_err_set(e, SW_EXIT_FILE,
+				   "%s: refused: directory owned by uid %u, not uid %u",
+				   dir, (unsigned int)st.st_uid,
+				   (unsigned int)geteuid());
+	}
+	/* Saved calibrations are root's business alone. */
+	if ((st.st_mode & 077) && fchmod(dfd, 0700) < 0) {
+		ret = sw_err_set(e, SW_EXIT_IO, "%s: chmod 0700: %s", dir,
+				 strerror(errno));
+		close(dfd);
+		return -ret;
 	}
 	return dfd;
 }
 
 int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
-			 struct sw_err *e)
+			 bool state_dir, struct sw_err *e)
 {
 	char dir[4096], tmp[300];
-	const char *base, *slash;
+	const char *base;
 	struct stat st;
 	int dfd, fd = -1, i, err;
 
-	slash = strrchr(path, '/');
-	if (slash) {
-		size_t dlen = slash == path ? 1 : (size_t)(slash - path);
-
-		if (dlen >= sizeof(dir))
-			return sw_err_set(e, SW_EXIT_USAGE, "%s: path too long",
-					  path);
-		memcpy(dir, path, dlen);
-		dir[dlen] = '\0';
-		base = slash + 1;
-	} else {
-		strcpy(dir, ".");
-		base = path;
-	}
-	if (!*base || strlen(base) > 200 || !strcmp(base, ".") ||
-	    !strcmp(base, ".."))
-		return sw_err_set(e, SW_EXIT_USAGE, "%s: not a file name", path);
-
-	dfd = open_state_dir(dir, e);
+	err = split_path(path, dir, sizeof(dir), &base, e);
+	if (err)
+		return err;
+	dfd = open_dir(dir, state_dir, e);
 	if (dfd < 0)
 		return -dfd;
 

@@ -87,12 +87,34 @@ enum sw_file_check sw_file_match_chip(const struct sw_file *f,
 const char *sw_param_name(int n);
 
 /*
- * Read a whole file of at most SW_FILE_MAX_READ bytes. With nofollow the
- * last path component must not be a symlink. Returns SW_EXIT_OK, or
- * SW_EXIT_FILE with e->msg set (errno_out = ENOENT when it is missing),
- * or SW_EXIT_IO.
+ * How far a file to be read is trusted. The state file decides what is
+ * written into the chip at every boot, as root, and its CRC is no
+ * authentication: whoever may change the file or its directory may
+ * choose the calibration.
  */
-int sw_file_read(const char *path, bool nofollow, uint8_t *buf,
+enum sw_read_mode {
+	/* show FILE: only printed; following a symlink the user named is harmless. */
+	SW_READ_ANY,
+	/*
+	 * --file for restore, save and status: the last component must not
+	 * be a symlink, the file must be owned by the effective user and not
+	 * writable by group or others.
+	 */
+	SW_READ_OWNED,
+	/*
+	 * STATE_DIR/KEY.ws: as SW_READ_OWNED, and the directory must not be a
+	 * symlink, must be owned by the effective user and not be writable
+	 * by group or others; the file is opened relative to it.
+	 */
+	SW_READ_STATE,
+};
+
+/*
+ * Read a whole file of at most SW_FILE_MAX_READ bytes. Returns SW_EXIT_OK,
+ * or SW_EXIT_FILE with e->msg set (errno_out = ENOENT when it or the state
+ * directory is missing, ELOOP for a symlink), or SW_EXIT_IO.
+ */
+int sw_file_read(const char *path, enum sw_read_mode mode, uint8_t *buf,
 		 size_t *len, int *errno_out, struct sw_err *e);
 
 /*
@@ -100,10 +122,13 @@ int sw_file_read(const char *path, bool nofollow, uint8_t *buf,
  * (mode 0600, O_EXCL|O_NOFOLLOW), write, fsync, rename, fsync the
  * directory. The directory is created 0700 when missing (its parent must
  * exist) and must not be a symlink; an existing target that is a symlink
- * or not a regular file is refused. No partial file is ever visible at
- * path; the temp file is removed on every error.
+ * or not a regular file is refused. With state_dir (the directory is the
+ * state directory, not --file's), it must also be owned by the effective
+ * user, and group and others lose their access to it; --file's directory
+ * (/tmp, say) is left as it is. No partial file is ever visible at path;
+ * the temp file is removed on every error.
  */
 int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
-			 struct sw_err *e);
+			 bool state_dir, struct sw_err *e);
 
 #endif

@@ -22,7 +22,7 @@ static void put(const char *sub, const char *name, const void *buf,
 
 	snprintf(path, sizeof(path), "%s/%s/%s", dir, sub, name);
 	sw_err_clear(&e);
-	if (sw_file_write_atomic(path, buf, len, &e)) {
+	if (sw_file_write_atomic(path, buf, len, false, &e)) {
 		fprintf(stderr, "mkseeds: %s\n", e.msg);
 		exit(1);
 	}

@@ -83,7 +83,7 @@ static bool load(struct ctx *c, struct sw_file *f)
 	size_t len;
 
 	sw_err_clear(&e);
-	if (sw_file_read(c->path, true, buf, &len, NULL, &e))
+	if (sw_file_read(c->path, SW_READ_STATE, buf, &len, NULL, &e))
 		return false;
 	return sw_file_decode(buf, len, f, NULL, 0) == SW_CHECK_OK;
 }
@@ -249,7 +249,7 @@ static void test_restore_refuses_bad_files(void **state)
 		buf[cases[i].off] ^= 0x10;
 		sw_err_clear(&e);
 		assert_int_equal(sw_file_write_atomic(c->path, buf, sizeof(buf),
-						      &e), SW_EXIT_OK);
+						      true, &e), SW_EXIT_OK);
 		assert_int_equal(restore(c), SW_EXIT_FILE);
 		if (!strstr(c->e.msg, cases[i].check))
 			fail_msg("offset %zu: \"%s\" lacks \"%s\"", cases[i].off,
@@ -257,7 +257,7 @@ static void test_restore_refuses_bad_files(void **state)
 		assert_non_null(strstr(c->e.msg, "not touched"));
 	}
 	/* Truncated. */
-	assert_int_equal(sw_file_write_atomic(c->path, good, 100, &e),
+	assert_int_equal(sw_file_write_atomic(c->path, good, 100, true, &e),
 			 SW_EXIT_OK);
 	assert_int_equal(restore(c), SW_EXIT_FILE);
 	assert_non_null(strstr(c->e.msg, "truncated"));

@@ -355,8 +355,8 @@ static void test_atomic_write(void **state)
 	sw_file_encode(&f, buf);
 	sw_err_clear(&e);
 	umask(0);	/* the file must be 0600 whatever the umask */
-	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), &e),
-			 SW_EXIT_OK);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
+					      &e), SW_EXIT_OK);
 	umask(022);
 	assert_int_equal(stat(s->state, &st), 0);
 	assert_int_equal(st.st_mode & 07777, 0700);
@@ -364,8 +364,8 @@ static void test_atomic_write(void **state)
 	assert_true(S_ISREG(st.st_mode));
 	assert_int_equal(st.st_mode & 07777, 0600);
 	assert_int_equal(count_entries(s->state), 1);	/* no temp left */
-	assert_int_equal(sw_file_read(s->file, true, back, &len, NULL, &e),
-			 SW_EXIT_OK);
+	assert_int_equal(sw_file_read(s->file, SW_READ_STATE, back, &len, NULL,
+				      &e), SW_EXIT_OK);
 	assert_int_equal(len, SW_FILE_SIZE);
 	assert_memory_equal(back, buf, len);
 
@@ -374,17 +374,17 @@ static void test_atomic_write(void **state)
 		f.score_raw = (uint16_t)(0x8100 + i);
 		sw_file_encode(&f, buf);
 		assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf),
-						      &e), SW_EXIT_OK);
+						      true, &e), SW_EXIT_OK);
 	}
 	assert_int_equal(count_entries(s->state), 1);
-	assert_int_equal(sw_file_read(s->file, true, back, &len, NULL, &e),
-			 SW_EXIT_OK);
+	assert_int_equal(sw_file_read(s->file, SW_READ_STATE, back, &len, NULL,
+				      &e), SW_EXIT_OK);
 	assert_memory_equal(back, buf, SW_FILE_SIZE);
 
 	/* A loose directory mode is tightened. */
 	assert_int_equal(chmod(s->state, 0755), 0);
-	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), &e),
-			 SW_EXIT_OK);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
+					      &e), SW_EXIT_OK);
 	assert_int_equal(stat(s->state, &st), 0);
 	assert_int_equal(st.st_mode & 07777, 0700);
 }
@@ -414,8 +414,8 @@ static void test_refuses_symlink(void **state)
 	assert_int_equal(symlink(victim, s->file), 0);
 
 	sw_err_clear(&e);
-	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), &e),
-			 SW_EXIT_FILE);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
+					      &e), SW_EXIT_FILE);
 	assert_non_null(strstr(e.msg, "symbolic link"));
 	assert_int_equal(lstat(s->file, &st), 0);
 	assert_true(S_ISLNK(st.st_mode));
@@ -425,8 +425,8 @@ static void test_refuses_symlink(void **state)
 
 	/* Reading through it is refused as well. */
 	sw_err_clear(&e);
-	assert_int_equal(sw_file_read(s->file, true, back, &len, &err, &e),
-			 SW_EXIT_FILE);
+	assert_int_equal(sw_file_read(s->file, SW_READ_STATE, back, &len, &err,
+				      &e), SW_EXIT_FILE);
 	assert_int_equal(err, ELOOP);
 
 	/* A symlinked state directory is refused. */
@@ -434,16 +434,16 @@ static void test_refuses_symlink(void **state)
 	assert_int_equal(symlink(s->state, linkdir), 0);
 	snprintf(viafile, sizeof(viafile), "%s/other.ws", linkdir);
 	sw_err_clear(&e);
-	assert_int_equal(sw_file_write_atomic(viafile, buf, sizeof(buf), &e),
-			 SW_EXIT_FILE);
+	assert_int_equal(sw_file_write_atomic(viafile, buf, sizeof(buf), true,
+					      &e), SW_EXIT_FILE);
 	assert_int_equal(count_entries(s->state), 1);
 
 	/* A target that is a directory is refused, nothing left behind. */
 	assert_int_equal(unlink(s->file), 0);
 	assert_int_equal(mkdir(s->file, 0700), 0);
 	sw_err_clear(&e);
-	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), &e),
-			 SW_EXIT_FILE);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
+					      &e), SW_EXIT_FILE);
 	assert_int_equal(count_entries(s->state), 1);
 }
 
@@ -462,13 +462,103 @@ static void test_read_oversized(void **state)
 	assert_int_equal(fwrite(big, 1, sizeof(big), fp), sizeof(big));
 	fclose(fp);
 	sw_err_clear(&e);
-	assert_int_equal(sw_file_read(s->file, true, back, &len, NULL, &e),
-			 SW_EXIT_OK);
+	assert_int_equal(sw_file_read(s->file, SW_READ_STATE, back, &len, NULL,
+				      &e), SW_EXIT_OK);
 	assert_int_equal(len, SW_FILE_MAX_READ + 1);
 	back[28] = 140;
 	back[29] = 0;
 	assert_int_equal(sw_file_decode(back, len, NULL, NULL, 0),
 			 SW_CHECK_TRAILING);
+}
+
+static void expect_read(const char *path, enum sw_read_mode mode, int want,
+			const char *msg)
+{
+	uint8_t back[SW_FILE_MAX_READ + 1];
+	struct sw_err e;
+	size_t len;
+
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_read(path, mode, back, &len, NULL, &e), want);
+	if (msg && !strstr(e.msg, msg))
+		fail_msg("\"%s\" lacks \"%s\"", e.msg, msg);
+}
+
+/*
+ * The state file decides what reaches the chip at boot: it is read only
+ * when nobody but us can have written it or swapped it in its directory.
+ */
+static void test_read_trust(void **state)
+{
+	struct scratch *s = *state;
+	uint8_t buf[SW_FILE_SIZE];
+	char linkdir[192], viafile[224];
+	struct sw_err e;
+	struct sw_file f;
+	struct stat st;
+
+	sample_file(&f);
+	sw_file_encode(&f, buf);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
+					      &e), SW_EXIT_OK);
+	expect_read(s->file, SW_READ_STATE, SW_EXIT_OK, NULL);
+
+	/* A file others may write. */
+	assert_int_equal(chmod(s->file, 0620), 0);
+	expect_read(s->file, SW_READ_STATE, SW_EXIT_FILE,
+		    "refused: file writable by group or others");
+	expect_read(s->file, SW_READ_OWNED, SW_EXIT_FILE,
+		    "refused: file writable by group or others");
+	expect_read(s->file, SW_READ_ANY, SW_EXIT_OK, NULL);
+	assert_int_equal(chmod(s->file, 0600), 0);
+
+	/* A state directory others may write: not for --file's directory. */
+	assert_int_equal(chmod(s->state, 0773), 0);
+	expect_read(s->file, SW_READ_STATE, SW_EXIT_FILE,
+		    "refused: directory writable by group or others");
+	expect_read(s->file, SW_READ_OWNED, SW_EXIT_OK, NULL);
+	assert_int_equal(chmod(s->state, 0700), 0);
+
+	/* A state directory that is a symlink. */
+	snprintf(linkdir, sizeof(linkdir), "%s/linkdir", s->dir);
+	assert_int_equal(symlink(s->state, linkdir), 0);
+	snprintf(viafile, sizeof(viafile), "%s/key.ws", linkdir);
+	expect_read(viafile, SW_READ_STATE, SW_EXIT_FILE, "symbolic link");
+	expect_read(viafile, SW_READ_OWNED, SW_EXIT_OK, NULL);
+
+	/* A missing state directory is a missing file. */
+	snprintf(viafile, sizeof(viafile), "%s/absent/key.ws", s->dir);
+	expect_read(viafile, SW_READ_STATE, SW_EXIT_FILE, "does not exist");
+
+	/*
+	 * Writing with --file leaves its directory's mode alone: a save to
+	 * /tmp/x.ws as root used to chmod /tmp 0700.
+	 */
+	assert_int_equal(chmod(s->dir, 01777), 0);
+	snprintf(viafile, sizeof(viafile), "%s/other.ws", s->dir);
+	assert_int_equal(sw_file_write_atomic(viafile, buf, sizeof(buf), false,
+					      &e), SW_EXIT_OK);
+	assert_int_equal(stat(s->dir, &st), 0);
+	assert_int_equal(st.st_mode & 07777, 01777);
+	assert_int_equal(chmod(s->dir, 0700), 0);
+
+	/* Someone else's file or state directory (needs root to set up). */
+	if (geteuid() != 0)
+		return;
+	assert_int_equal(chown(s->file, 65534, 65534), 0);
+	expect_read(s->file, SW_READ_STATE, SW_EXIT_FILE,
+		    "refused: file owned by uid 65534, not uid 0");
+	expect_read(s->file, SW_READ_OWNED, SW_EXIT_FILE,
+		    "refused: file owned by uid 65534");
+	assert_int_equal(chown(s->file, 0, 0), 0);
+	assert_int_equal(chown(s->state, 65534, 65534), 0);
+	expect_read(s->file, SW_READ_STATE, SW_EXIT_FILE,
+		    "refused: directory owned by uid 65534, not uid 0");
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
+					      &e), SW_EXIT_FILE);
+	assert_non_null(strstr(e.msg, "directory owned by uid 65534"));
 }
 
 int main(void)
@@ -488,6 +578,8 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_atomic_write,
 						scratch_setup, scratch_teardown),
 		cmocka_unit_test_setup_teardown(test_refuses_symlink,
+						scratch_setup, scratch_teardown),
+		cmocka_unit_test_setup_teardown(test_read_trust,
 						scratch_setup, scratch_teardown),
 		cmocka_unit_test_setup_teardown(test_read_oversized,
 						scratch_setup, scratch_teardown),
