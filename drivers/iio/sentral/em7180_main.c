@@ -46,6 +46,9 @@
 
 #define EM7180_ACCEL_GYRO_HZ_PER_LSB	10
 
+/* Attempts at the EventStatus read that releases the INT line */
+#define EM7180_EVENT_READ_TRIES		3
+
 static const struct regmap_range em7180_readable_ranges[] = {
 	regmap_reg_range(EM7180_REG_QX, EM7180_REG_ERROR),
 	regmap_reg_range(EM7180_REG_ALGO_CTRL, EM7180_REG_PARAM_REQ),
@@ -870,23 +873,38 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
 	return IRQ_WAKE_THREAD;
 }
 
-/* Reading EventStatus clears it and releases the INT line */
+/*
+ * Reading EventStatus clears it and releases the INT line. The line is a
+ * level that only a successful read lowers: on an edge-triggered interrupt
+ * a read lost to a bus error would leave it high and no further interrupt
+ * would ever come, so the read is retried.
+ */
 static irqreturn_t em7180_irq_thread(int irq, void *p)
 {
 	struct iio_dev *indio_dev = p;
 	struct em7180_data *data = iio_priv(indio_dev);
 	unsigned int status, err = 0;
-	int ret;
+	int ret, err_ret = 0, tries = EM7180_EVENT_READ_TRIES;
 
 	mutex_lock(&data->lock);
-	ret = regmap_read(data->regmap, EM7180_REG_EVENT_STATUS, &status);
+	do {
+		ret = regmap_read(data->regmap, EM7180_REG_EVENT_STATUS,
+				  &status);
+	} while (ret && --tries);
 	if (!ret && (status & EM7180_EVENT_ERROR))
-		ret = regmap_read(data->regmap, EM7180_REG_ERROR, &err);
+		err_ret = regmap_read(data->regmap, EM7180_REG_ERROR, &err);
 	mutex_unlock(&data->lock);
-	if (ret)
+	if (ret) {
+		dev_err_ratelimited(data->dev,
+				    "cannot read the event status: %d\n", ret);
 		return IRQ_HANDLED;
+	}
 
-	if (status & EM7180_EVENT_ERROR)
+	if ((status & EM7180_EVENT_ERROR) && err_ret)
+		dev_err_ratelimited(data->dev,
+				    "chip error, error register unreadable: %d\n",
+				    err_ret);
+	else if (status & EM7180_EVENT_ERROR)
 		dev_err_ratelimited(data->dev, "chip error 0x%02x\n", err);
 
 	if (status & EM7180_EVENT_DATA)
@@ -926,7 +944,22 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 
 	mutex_lock(&data->lock);
 	ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS, events);
+	if (ret && !state)
+		ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
+				   events);
 	mutex_unlock(&data->lock);
+
+	/*
+	 * When turning the trigger off fails, the IIO core keeps the poll
+	 * function attached but tears the buffer down anyway: the next data
+	 * interrupt would then run the trigger handler with no scan mask.
+	 * Hence one retry, and a failure is reported here, not to the core.
+	 */
+	if (ret && !state) {
+		dev_err(data->dev, "cannot turn the data interrupts off: %d\n",
+			ret);
+		return 0;
+	}
 
 	return ret;
 }
