@@ -17,9 +17,11 @@ is "default param 24 (acoeffs 1.0f)" "$(param_get 24)" 0x3f800000
 is "default param 74 (mag 1000 uT, accel 8 g)" "$(param_get 74)" 0x000803e8
 is "default param 75 (gyro 2000 dps)" "$(param_get 75)" 0x000007d0
 
+is "state: no transfer started yet" "$(dbg_get state transfer_started_us)" 0
 is "state: no transfer ended yet" "$(dbg_get state transfer_ended_us)" 0
 knob stats 0
 ok "set AlgorithmControl bit 7" param_begin
+ok "state: transfer_started_us set" [ "$(dbg_get state transfer_started_us)" -gt 0 ]
 is "state: in transfer mode" "$(dbg_get state transfer)" 1
 ok "request param 18 (read)" sim_wr 0x64 18
 out=$(sim_poll_ack 18)
@@ -42,6 +44,8 @@ is "state: transfer mode ended" "$(dbg_get state transfer)" 0
 t1=$(dbg_get state transfer_ended_us) t2=$(mono_us)
 ok "state: transfer_ended_us on CLOCK_MONOTONIC, when bit 7 was cleared" \
 	[ "$t0" -le "$t1" -a "$t1" -le "$t2" ]
+ok "state: the transfer started before it ended" \
+	[ "$(dbg_get state transfer_started_us)" -lt "$t0" ]
 is "ack reads 0 after the end" "$(sim_rd 0x3a)" 0x00
 is "AlgorithmControl 0" "$(sim_rd 0x54)" 0x00
 is "parameters served" "$(dbg_get stats params_served)" 5

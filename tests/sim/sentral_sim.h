@@ -131,6 +131,7 @@ struct sentral_sim {
 	ktime_t req_servable_at;
 	u8 param_ack;
 	u8 saved_param[4];
+	ktime_t transfer_started; /* when bit 7 was last set; 0: never */
 	ktime_t transfer_ended;	/* when bit 7 was last cleared; 0: never */
 
 	/* Firmware upload from EEPROM after power-on or reset, §3 */

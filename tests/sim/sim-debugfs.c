@@ -302,6 +302,8 @@ static void state_show(struct seq_file *m, struct sentral_sim *sim,
 	seq_printf(m, "transfer %d\n", !!(algo & SIM_ALGO_PARAM_PROC));
 	seq_printf(m, "running %d\n", sim_algo_running(sim, now));
 	seq_printf(m, "request_pending %d\n", sim->req_pending);
+	seq_printf(m, "transfer_started_us %lld\n",
+		   ktime_to_us(sim->transfer_started));
 	seq_printf(m, "transfer_ended_us %lld\n",
 		   ktime_to_us(sim->transfer_ended));
 	seq_printf(m, "cal_status %u\n", sim_cal_status(sim));

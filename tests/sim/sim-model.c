@@ -784,6 +784,7 @@ static void sim_write_algo_control(struct sentral_sim *sim, u8 val,
 		/* a request written before bit 7 is served from now on */
 		sim->req_pending = sim->regs[SIM_REG_PARAM_REQUEST] != 0;
 		sim->req_servable_at = now;
+		sim->transfer_started = now;
 	} else if ((old & SIM_ALGO_PARAM_PROC) && !(val & SIM_ALGO_PARAM_PROC)) {
 		/* end of the procedure (§2 "End") */
 		sim->req_pending = false;
