@@ -139,6 +139,8 @@ struct iio_trigger;
  * @ram_version: RAM (firmware) version, read at probe and after a power loss
  * @ws_valid: @ws holds the last warm start written or read
  * @ws: warm start to re-apply when the chip lost power during suspend
+ * @accel_offset_valid: @accel_offset holds what the chip has
+ * @accel_offset: parameters 27..29, the accelerometer offsets in float g
  * @orientation: mount matrix from firmware
  * @timestamp: time of the last data-ready interrupt
  * @burst: raw sensor registers of one scan
@@ -158,6 +160,8 @@ struct em7180_data {
 	u16 ram_version;
 	bool ws_valid;
 	u8 ws[EM7180_WS_SIZE];
+	bool accel_offset_valid;
+	u32 accel_offset[3];
 	struct iio_mount_matrix orientation;
 	s64 timestamp;
 	u8 burst[EM7180_BURST_LEN];

@@ -287,16 +287,49 @@ static int em7180_write_freq(struct em7180_data *data,
 	return ret;
 }
 
+/*
+ * Parameters 27..29 change only when the host writes them, so calibbias is
+ * read from a copy: a parameter transfer pauses the fusion algorithm, which
+ * a reader of the world-readable attribute must not be able to do. The copy
+ * is filled at probe and again after a transfer that failed may have
+ * changed the chip's values.
+ */
+static int em7180_accel_offset_fetch(struct em7180_data *data)
+{
+	int ret;
+
+	lockdep_assert_held(&data->lock);
+
+	if (data->accel_offset_valid)
+		return 0;
+
+	ret = em7180_params_read(data, EM7180_ACCEL_OFFSET_PARAM,
+				 ARRAY_SIZE(data->accel_offset),
+				 data->accel_offset);
+	data->accel_offset_valid = !ret;
+
+	return ret;
+}
+
+/* Keep the copy in step with a warm start read from or written to the chip */
+static void em7180_accel_offset_set(struct em7180_data *data, const u32 *ws)
+{
+	memcpy(data->accel_offset,
+	       &ws[EM7180_ACCEL_OFFSET_PARAM - EM7180_WS_FIRST_PARAM],
+	       sizeof(data->accel_offset));
+	data->accel_offset_valid = true;
+}
+
 static int em7180_read_calibbias(struct em7180_data *data,
 				 const struct iio_chan_spec *chan, int *val)
 {
-	unsigned int param = EM7180_ACCEL_OFFSET_PARAM +
-			     (chan->address - EM7180_REG_AX) / 2;
+	unsigned int axis = (chan->address - EM7180_REG_AX) / 2;
 	u32 bits;
 	int ret;
 
 	mutex_lock(&data->lock);
-	ret = em7180_params_read(data, param, 1, &bits);
+	ret = em7180_accel_offset_fetch(data);
+	bits = data->accel_offset[axis];
 	mutex_unlock(&data->lock);
 	if (ret)
 		return ret;
@@ -323,9 +356,15 @@ static int em7180_write_calibbias(struct em7180_data *data,
 
 	mutex_lock(&data->lock);
 	ret = em7180_params_write(data, param, 1, &bits);
-	/* Keep the copy re-applied after a power loss in step */
-	if (!ret && data->ws_valid)
-		put_unaligned_le32(bits, &data->ws[(param - EM7180_WS_FIRST_PARAM) * 4]);
+	if (ret) {
+		/* The chip may have taken the value before the error */
+		data->accel_offset_valid = false;
+	} else {
+		data->accel_offset[param - EM7180_ACCEL_OFFSET_PARAM] = bits;
+		/* Keep the copy re-applied after a power loss in step */
+		if (data->ws_valid)
+			put_unaligned_le32(bits, &data->ws[(param - EM7180_WS_FIRST_PARAM) * 4]);
+	}
 	mutex_unlock(&data->lock);
 
 	return ret;
@@ -728,6 +767,7 @@ static ssize_t warmstart_read(struct file *filp, struct kobject *kobj,
 							 EM7180_WS_SIZE, true);
 		if (data->ws_valid)
 			memcpy(data->ws, buf, EM7180_WS_SIZE);
+		em7180_accel_offset_set(data, vals);
 	}
 	mutex_unlock(&data->lock);
 
@@ -763,6 +803,10 @@ static ssize_t warmstart_write(struct file *filp, struct kobject *kobj,
 	if (!ret) {
 		memcpy(data->ws, buf, EM7180_WS_SIZE);
 		data->ws_valid = true;
+		em7180_accel_offset_set(data, vals);
+	} else {
+		/* Some parameters may have been written before the error */
+		data->accel_offset_valid = false;
 	}
 	mutex_unlock(&data->lock);
 
@@ -1183,6 +1227,13 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
+	mutex_lock(&data->lock);
+	ret = em7180_accel_offset_fetch(data);
+	mutex_unlock(&data->lock);
+	if (ret)
+		return dev_err_probe(dev, ret,
+				     "failed to read the accelerometer offsets\n");
+
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;
 	indio_dev->channels = em7180_channels;
@@ -1252,6 +1303,7 @@ int em7180_chip_resume(struct em7180_data *data)
 	}
 
 	dev_info(data->dev, "chip lost power, restoring its state\n");
+	data->accel_offset_valid = false;
 
 	ret = em7180_wait_firmware(data);
 	if (ret)
@@ -1268,13 +1320,19 @@ int em7180_chip_resume(struct em7180_data *data)
 		ret = regcache_sync_region(data->regmap,
 					   EM7180_REG_QRATE_DIVISOR,
 					   EM7180_REG_GYRO_RATE);
-	if (ret || !data->ws_valid)
+	if (ret)
 		goto out;
+	if (!data->ws_valid) {
+		ret = em7180_accel_offset_fetch(data);
+		goto out;
+	}
 
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 		vals[i] = get_unaligned_le32(&data->ws[4 * i]);
 	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
 				  EM7180_WS_NUM_PARAMS, vals);
+	if (!ret)
+		em7180_accel_offset_set(data, vals);
 out:
 	mutex_unlock(&data->lock);
 	return ret;
