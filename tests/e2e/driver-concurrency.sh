@@ -185,7 +185,7 @@ echo "# $(($(dbg_get state irqs) - irqs0)) data-ready interrupts in ${DURATION} 
 # whole time (a capture waits at most for one transfer before it starts).
 runs=$(wc -l <"$T/streams")
 echo "# $runs captures"
-ok "at least 8 captures in ${DURATION} s" [ "$runs" -ge 8 ]
+ok "at least 5 captures in ${DURATION} s" [ "$runs" -ge 5 ]
 bad=$(awk '$2 != 0' "$T/streams")
 is "every iio_readdev exited 0" "$bad" ""
 [ -n "$bad" ] && cat "$T"/s.*.err | sort | uniq -c | sed 's/^/#   /' | head
@@ -216,7 +216,8 @@ for path in glob.glob(sys.argv[1] + "/s.*"):
             sys.exit("%s: scan %d: quaternion %s is not a unit" % (path, off // size, q))
         if last is not None:
             if ts <= last:
-                sys.exit("%s: scan %d: timestamp not increasing" % (path, off // size))
+                sys.exit("%s: scan %d: timestamp %d after %d" %
+                         (path, off // size, ts, last))
             worst = max(worst, ts - last)
         last = ts
         n += 1

@@ -1,0 +1,228 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# The em7180 driver going away and coming back: unbind during a capture (the
+# reader ends, the device returns and captures again), unbind while a
+# 35-parameter warmstart read or write is in flight (the chip is left out of
+# parameter-transfer mode; save and restore work after the rebind), and 50
+# unloads and reloads of em7180_i2c and em7180_core, with no leak: the same
+# IIO device and trigger numbers, interrupts, open files and kmalloc usage
+# as before, and (on a kernel with kmemleak) no unreferenced object.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tests/lib/em7180.sh"
+
+CHANNELS="rot_quaternion accel_x accel_y accel_z anglvel_x anglvel_y anglvel_z timestamp"
+CYCLES=50
+T=$(mktemp -d)
+
+now_ms() {
+	echo $((${EPOCHREALTIME/./} / 1000))
+}
+
+# AlgorithmControl (0x54) as the chip holds it, "0xXX".
+algo_ctrl() {
+	awk '$1 == "50:" { print "0x" $6 }' "$SIM_DBG/regs"
+}
+
+transfer_mode_off() {
+	[ "$(dbg_get state transfer)" = 0 ] && [ $(($(algo_ctrl) & 0x80)) = 0 ]
+}
+
+chip_idle() {
+	transfer_mode_off && [ "$(dbg_get state running)" = 1 ]
+}
+
+in_transfer() {
+	[ "$(dbg_get state transfer)" = 1 ]
+}
+
+# ends PID SECONDS: whether a background job of this shell ends in time; its
+# exit status in RC (not through ok: that runs its command in a subshell).
+ends() {
+	local desc=$1 pid=$2 secs=$3
+	RC=
+	if wait_for "$secs" sh -c "! kill -0 $pid 2>/dev/null"; then
+		wait "$pid"
+		RC=$?
+		_tap_result 1 "$desc"
+	else
+		_tap_result 0 "$desc"
+		echo "#   still running after $secs s"
+		kill "$pid"
+		wait "$pid"
+	fi
+}
+
+# A device that is there and answers: accel Z reads about 1 g.
+device_reads() {
+	local d v
+	d=$(em7180_dir) && v=$(cat "$d/in_accel_z_raw" 2>/dev/null) &&
+		[ "$v" -gt 1900 ] && [ "$v" -lt 2200 ]
+}
+
+DEV=$(em7180_dir)
+ok "em7180 present" test -n "$DEV"
+CLIENT=$(basename "$(readlink -f "$DEV/..")")
+DRV=$(readlink -f "/sys/bus/i2c/devices/$CLIENT/driver")
+like "bound to the em7180 driver" "$DRV" '/drivers/em7180'
+N=${DEV##*iio:device}
+
+# -- Unbind during a capture ------------------------------------------------
+# shellcheck disable=SC2086
+iio_readdev -b 16 -s 0 em7180 $CHANNELS >"$T/s.bin" 2>"$T/s.err" &
+pid=$!
+wait_for 5 test -s "$T/s.bin"
+ok "capturing" test -s "$T/s.bin"
+t0=$(now_ms)
+ok "unbind during the capture" sh -c "echo $CLIENT > $DRV/unbind"
+echo "# unbind took $(($(now_ms) - t0)) ms"
+ends "iio_readdev ends within 10 s" $pid 10
+echo "# iio_readdev ended after $(($(now_ms) - t0)) ms, status $RC:"
+sed 's/^/#   /' "$T/s.err" | grep -v 'channel\[' | head -n 5
+like "and says why" "$(cat "$T/s.err")" "(Unable|ERROR|No such device)"
+is "it wrote whole scans" "$(($(stat -c %s "$T/s.bin") % 32))" 0
+nok "the IIO device is gone" em7180_dir
+ok "so is the trigger" sh -c "! grep -qx em7180-dev$N /sys/bus/iio/devices/trigger*/name"
+ok "transfer mode not entered" transfer_mode_off
+ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
+ok "the device is back and reads" wait_for 5 device_reads
+DEV=$(em7180_dir)
+is "with the same number" "${DEV##*iio:device}" "$N"
+is "and its trigger" "$(cat "$DEV/trigger/current_trigger")" "em7180-dev$N"
+# shellcheck disable=SC2086
+ok "it captures again" sh -c "iio_readdev -b 16 -s 50 em7180 $CHANNELS > $T/s2.bin"
+is "50 scans" "$(stat -c %s "$T/s2.bin")" 1600
+
+# -- Unbind during a warmstart transfer --------------------------------------
+ok "save a reference blob" dd if="$DEV/warmstart" of="$T/ref" bs=4096 status=none
+# 20 ms per acknowledge: a transfer of 35 parameters takes 0.7 s.
+knob ack_latency_us 20000
+
+# unbind_during WHAT CMD...: start CMD, unbind once the chip is in transfer
+# mode, and check what is left; then bind again (answering parameter
+# requests: the probe reads some).
+unbind_during() {
+	local what=$1 pid
+	shift
+	"$@" >"$T/out" 2>"$T/err" &
+	pid=$!
+	ok "$what: chip in transfer mode" wait_for 5 in_transfer
+	t0=$(now_ms)
+	ok "$what: unbind" sh -c "echo $CLIENT > $DRV/unbind"
+	ends "$what: the transfer ends" $pid 10
+	echo "# $what: unbind took $(($(now_ms) - t0)) ms; transfer status $RC $(head -c 200 "$T/err")"
+	ok "$what: transfer mode ended (AlgorithmControl $(algo_ctrl))" transfer_mode_off
+	# The probe reads parameters too.
+	knob ack_never 0
+	ok "$what: rebind" sh -c "echo $CLIENT > $DRV/bind"
+	ok "$what: the device is back and reads" wait_for 5 device_reads
+	DEV=$(em7180_dir)
+	ok "$what: chip running, not in transfer mode" chip_idle
+}
+
+unbind_during "save" sh -c "dd if=$DEV/warmstart bs=4096 status=none"
+if [ "$RC" = 0 ]; then
+	ok "the save that completed is the chip's blob" cmp "$T/out" "$T/ref"
+fi
+unbind_during "restore" dd if="$T/ref" of="$DEV/warmstart" bs=140 status=none
+knob ack_never 1
+unbind_during "unacknowledged save" dd if="$DEV/warmstart" of=/dev/null bs=4096 status=none
+like "which timed out" "$(cat "$T/err")" "timed out"
+knob ack_latency_us 500
+
+ok "save after the rebinds" dd if="$DEV/warmstart" of="$T/a" bs=4096 status=none
+is "save: 140 bytes" "$(stat -c %s "$T/a")" 140
+ok "restore after the rebinds" dd if="$T/a" of="$DEV/warmstart" bs=140 status=none
+is "the chip holds the blob" "$(sim_ws_params)" "$(blob_words <"$T/a")"
+ok "chip idle" chip_idle
+
+# -- Unload with files held open ---------------------------------------------
+# The character device and a sysfs attribute stay open across the unbind and
+# the unload of em7180_i2c; using them afterwards fails cleanly, and closing
+# them lets em7180_core go (a use after free here is what KASAN would see).
+exec 3<"/dev/iio:device$N" 4<"$DEV/warmstart" 5<"$DEV/in_accel_x_raw"
+ok "unload em7180_i2c with files open" modprobe -d "$SENTRAL_MODROOT" -r em7180_i2c
+nok "the device is gone" em7180_dir
+nok "reading the character device fails" dd bs=32 count=1 status=none <&3
+nok "reading warmstart fails" dd bs=4096 count=1 status=none <&4
+nok "reading accel fails" dd bs=64 count=1 status=none <&5
+exec 3<&- 4<&- 5<&-
+ok "em7180_core unloads once they are closed" wait_for 5 modprobe -d "$SENTRAL_MODROOT" -r em7180_core
+nok "no em7180 module left" grep -q '^em7180' /proc/modules
+ok "reload" modprobe -d "$SENTRAL_MODROOT" em7180_i2c
+ok "the device is back and reads" wait_for 5 device_reads
+DEV=$(em7180_dir)
+
+# -- 50 unloads and reloads -------------------------------------------------
+# Counters a leak would move.  Objects in use per kmalloc cache come from
+# SLUB's exact counts after the CPU slabs are flushed; they move by a few
+# objects by themselves (the shell), a leak of one object per cycle by
+# $CYCLES.  The reclaimable caches (dentries' names and the like) are not the
+# driver's.
+kmalloc_objects() {
+	local c n
+	for c in /sys/kernel/slab/kmalloc-[0-9]*; do
+		echo 1 >"$c/shrink" 2>/dev/null
+		read -r n _ <"$c/objects"
+		echo "${c##*/} $n"
+	done
+}
+snapshot() {
+	echo "iio_devices $(ls /sys/bus/iio/devices | grep -c '^iio:device')"
+	echo "triggers $(ls /sys/bus/iio/devices | grep -c '^trigger')"
+	echo "interrupts $(wc -l </proc/interrupts)"
+	echo "modules $(wc -l </proc/modules)"
+	echo "i2c_clients $(ls /sys/bus/i2c/devices | wc -l)"
+	echo "device $(em7180_dir)"
+	echo "trigger $(cat "$(em7180_dir)/trigger/current_trigger")"
+}
+mp() {
+	modprobe -d "$SENTRAL_MODROOT" "$@"
+}
+
+reload() {
+	mp -r em7180_i2c || return 1
+	grep -q '^em7180_' /proc/modules && return 1
+	mp em7180_i2c && wait_for 5 device_reads
+}
+
+for i in 1 2 3; do reload; done
+before=$(snapshot)
+files0=$(cut -f1 /proc/sys/fs/file-nr)
+kmalloc_objects | sort >"$T/kmalloc0"
+t0=$(now_ms)
+fail=0
+for i in $(seq "$CYCLES"); do
+	reload || { fail=$i; break; }
+done
+t=$(($(now_ms) - t0))
+is "$CYCLES unloads and reloads, the device reads each time" "$fail" 0
+echo "# $CYCLES cycles in $t ms"
+is "counts as before" "$(snapshot)" "$before"
+files=$(cut -f1 /proc/sys/fs/file-nr)
+kmalloc_objects | sort >"$T/kmalloc1"
+echo "# allocated files $files0 -> $files"
+ok "no file leak ($files0 -> $files)" [ $((files - files0)) -lt "$CYCLES" ]
+grown=$(join "$T/kmalloc0" "$T/kmalloc1" | awk '$3 != $2 { printf "%s %+d, ", $1, $3 - $2 }')
+echo "# kmalloc objects: ${grown:-unchanged}"
+is "no kmalloc cache grew by $((CYCLES / 2)) objects or more" \
+	"$(join "$T/kmalloc0" "$T/kmalloc1" | awk -v m=$((CYCLES / 2)) '$3 - $2 >= m')" ""
+DEV=$(em7180_dir)
+ok "save after the reloads" dd if="$DEV/warmstart" of="$T/b" bs=4096 status=none
+ok "chip idle" chip_idle
+
+kmemleak=/sys/kernel/debug/kmemleak
+if [ -w $kmemleak ]; then
+	# Only objects older than 5 s are reported.
+	sleep 5
+	echo scan >$kmemleak
+	echo scan >$kmemleak
+	leaks=$(grep -cE 'em7180|sentral|iio' $kmemleak)
+	is "kmemleak: nothing of em7180, sentral or iio" "$leaks" 0
+	[ "$leaks" = 0 ] || head -n 40 $kmemleak | sed 's/^/#   /'
+else
+	echo "# no kmemleak in this kernel"
+fi
+
+rm -rf "$T"
+done_testing
