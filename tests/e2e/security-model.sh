@@ -227,12 +227,36 @@ ok "the old file is intact" cmp "/tmp/full/$key.ws" /tmp/full-old.ws
 is "no temporary file left" "$(ls -A /tmp/full | grep -c '\.tmp$')" 0
 umount /tmp/full
 
-# A state dir that is a symlink.
+# Ownership and mode of what is read back: only root's own, private files.
+cp -p /tmp/good.ws "$f"
+ok "the good file restores" sentral-warmstart restore
+chown 65534:65534 "$f"
+restore_refused "a state file owned by another user" 3
+chown 0:0 "$f"
+chmod 0666 "$f"
+restore_refused "a world-writable state file" 3
+chmod 0620 "$f"
+restore_refused "a group-writable state file" 3
+chmod 0600 "$f"
+chown 65534:65534 "$STATE"
+restore_refused "a state dir owned by another user" 3
+out=$(sentral-warmstart save --force 2>&1)
+is "save into a state dir owned by another user: exit 3" $? 3
+chown 0:0 "$STATE"
+chmod 0777 "$STATE"
+restore_refused "a world-writable state dir" 3
+chmod 0700 "$STATE"
+cp -p /tmp/good.ws /tmp/other.ws
+chown 65534 /tmp/other.ws
+restore_refused "a --file file owned by another user" 3 --file /tmp/other.ws
+ok "save --file into /tmp" sentral-warmstart save --force --file /tmp/mine.ws
+is "leaves the mode of /tmp alone" "$(stat -c %a /tmp)" 1777
 mv "$STATE" /var/lib/sw.real
 mkdir -m 0700 /tmp/evil
 cp -p /tmp/good.ws /tmp/evil/
 mv "/tmp/evil/good.ws" "/tmp/evil/$key.ws"
 ln -s /tmp/evil "$STATE"
+restore_refused "a state dir that is a symlink" 3
 out=$(sentral-warmstart save --force 2>&1)
 is "save through a state dir that is a symlink: exit 3" $? 3
 rm "$STATE"
@@ -307,7 +331,13 @@ is "a forged finite calibration is written (CRC is no authentication)" \
 	"$(sim_param 19)" 0x7e967699
 is "parameters outside 1..35 are never written" \
 	"$(awk '$1 > 35' "$SIM_DBG/params")" "$(awk '$1 > 35' <<<"$params")"
+forge /tmp/forged.ws 136 '<I' 0xbcbbe447   # param 27: -47 LSB (Table 1)
+out=$(sentral-warmstart restore --file /tmp/forged.ws 2>&1)
+knob stats 0
+is "after a restore, calibbias shows the restored offset" \
+	"$(as_nobody cat "$DEV/in_accel_x_calibbias")" -47
 ok "the good file restores again" sentral-warmstart restore --file /tmp/good.ws
+is "calibbias follows" "$(cat "$DEV/in_accel_x_calibbias")" 0
 
 # --- A lying chip --------------------------------------------------------
 # Never acknowledges: each access ends within about 1 s, chip running.
@@ -362,5 +392,10 @@ knob power_cycle 1
 ok "the chip uploads again" wait_for 5 sim_ready
 ok "bind works again" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
 ok "and the device is back" wait_for 5 em7180_dir
+DEV=$(em7180_dir)
+ok "root writes calibbias" sh -c "echo 12 >$DEV/in_accel_x_calibbias"
+knob stats 0
+is "nobody reads the written value" "$(as_nobody cat "$DEV/in_accel_x_calibbias")" 12
+is "the chip holds it" "$(sim_param 27)" "$(printf '0x%08x' "$(python3 -c 'import struct; print(struct.unpack("<I", struct.pack("<f", 12 * 0.000488))[0])')")"
 
 done_testing
