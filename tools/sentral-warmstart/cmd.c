@@ -110,7 +110,8 @@ static void fmt_time(uint64_t t, char *buf, size_t len)
 	time_t tt = (time_t)t;
 	struct tm tm;
 
-	if (!gmtime_r(&tt, &tm) ||
+	/* Beyond INT64_MAX the cast turns a file's time into one before 1970. */
+	if (tt < 0 || !gmtime_r(&tt, &tm) ||
 	    !strftime(buf, len, "%Y-%m-%dT%H:%M:%SZ", &tm))
 		snprintf(buf, len, "?");
 }

@@ -2,6 +2,7 @@
 /*
  * sentral-warmstart: small helpers shared by every part of the tool.
  */
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <string.h>
@@ -70,5 +71,17 @@ float sw_lsb_to_g(int lsb)
 
 int sw_g_to_lsb(float g)
 {
-	return (int)lround((double)g / SW_G_PER_LSB);
+	double lsb = round((double)g / SW_G_PER_LSB);
+
+	/*
+	 * A file or a chip can hold any float here: saturate, where lround()
+	 * would return an unspecified value and a cast would be undefined.
+	 */
+	if (isnan(lsb))
+		return 0;
+	if (lsb >= (double)INT_MAX)
+		return INT_MAX;
+	if (lsb <= (double)INT_MIN)
+		return INT_MIN;
+	return (int)lsb;
 }

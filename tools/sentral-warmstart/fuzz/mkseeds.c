@@ -63,6 +63,8 @@ static void wsfile_seeds(void)
 	sw_blob_set_param(f.payload, 1, -0.0f);
 	sw_blob_set_param(f.payload, 2, 3.4e38f);
 	sw_blob_set_param(f.payload, 3, 1e-45f);
+	sw_blob_set_param(f.payload, SW_PARAM_ACCEL_X, -3.4e38f);
+	sw_blob_set_param(f.payload, SW_PARAM_ACCEL_X + 1, 2e6f);
 	sw_file_encode(&f, buf);
 	put("wsfile", "valid-extremes.ws", buf, SW_FILE_SIZE);
 

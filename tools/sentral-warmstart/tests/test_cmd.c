@@ -347,6 +347,30 @@ static void test_show(void **state)
 	assert_non_null(strstr(out_text(c), "27  acoeffs[4]  0xbcbbe447"));
 	assert_non_null(strstr(out_text(c), "(accel X offset, -47 LSB)"));
 	assert_non_null(strstr(out_text(c), "35  gcoeffs[6]"));
+
+	/*
+	 * Extremes a valid file may hold: a save time past INT64_MAX is not
+	 * shown as 1969, a huge offset saturates instead of showing 0 LSB.
+	 */
+	{
+		uint8_t buf[SW_FILE_SIZE];
+		struct sw_file f;
+		struct sw_err e;
+
+		assert_true(load(c, &f));
+		f.saved_at = UINT64_MAX;
+		sw_blob_set_param(f.payload, 27, -3.4e38f);
+		sw_file_encode(&f, buf);
+		sw_err_clear(&e);
+		assert_int_equal(sw_file_write_atomic(c->path, buf, sizeof(buf),
+						      true, &e), SW_EXIT_OK);
+	}
+	assert_int_equal(sw_cmd_show(&o, &c->env, &c->e), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c),
+			       "saved at:            ? (18446744073709551615)"));
+	assert_non_null(strstr(out_text(c), "(accel X offset, -2147483648 LSB)"));
+	assert_null(strstr(out_text(c), "1969"));
+
 	assert_int_equal(truncate(c->path, 150), 0);
 	assert_int_equal(sw_cmd_show(&o, &c->env, &c->e), SW_EXIT_FILE);
 	assert_non_null(strstr(c->e.msg, "refused: truncated"));

@@ -4,6 +4,7 @@
  */
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -276,6 +277,11 @@ static void test_accel_units(void **state)
 	for (lsb = -32768; lsb <= 32767; lsb++)
 		if (sw_g_to_lsb(sw_lsb_to_g(lsb)) != lsb)
 			fail_msg("lsb %d does not round-trip", lsb);
+	/* Any float a file may hold: saturated, not wrapped to 0. */
+	assert_int_equal(sw_g_to_lsb(3.4e38f), INT_MAX);
+	assert_int_equal(sw_g_to_lsb(-3.4e38f), INT_MIN);
+	assert_int_equal(sw_g_to_lsb(2e6f), INT_MAX);
+	assert_int_equal(sw_g_to_lsb(NAN), 0);
 }
 
 static void test_score(void **state)
