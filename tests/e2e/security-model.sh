@@ -96,7 +96,10 @@ out=$(as_nobody cat "$DEV/in_accel_z_raw" 2>&1)
 like "during buffered capture it fails with EBUSY" "$out" "busy"
 echo 0 >"$DEV/buffer0/enable"
 echo 0 >"$DEV/buffer0/in_accel_x_en"
+knob stats 0
 ok "nobody can read calibbias" as_nobody cat "$DEV/in_accel_x_calibbias"
+is "an unprivileged calibbias read transfers no parameter (fusion not paused)" \
+	"$(served)" 0
 # gyro_bias_update and mag_calibration_update clear when read, by anyone.
 knob gbias_period_ms 1000
 nobody_sees_gbias() {
@@ -336,6 +339,7 @@ out=$(sentral-warmstart restore --file /tmp/forged.ws 2>&1)
 knob stats 0
 is "after a restore, calibbias shows the restored offset" \
 	"$(as_nobody cat "$DEV/in_accel_x_calibbias")" -47
+is "without a parameter transfer" "$(served)" 0
 ok "the good file restores again" sentral-warmstart restore --file /tmp/good.ws
 is "calibbias follows" "$(cat "$DEV/in_accel_x_calibbias")" 0
 
@@ -396,6 +400,7 @@ DEV=$(em7180_dir)
 ok "root writes calibbias" sh -c "echo 12 >$DEV/in_accel_x_calibbias"
 knob stats 0
 is "nobody reads the written value" "$(as_nobody cat "$DEV/in_accel_x_calibbias")" 12
+is "without a parameter transfer" "$(served)" 0
 is "the chip holds it" "$(sim_param 27)" "$(printf '0x%08x' "$(python3 -c 'import struct; print(struct.unpack("<I", struct.pack("<f", 12 * 0.000488))[0])')")"
 
 done_testing
