@@ -50,6 +50,11 @@ demo: VERSIONS = 6.12
 demo: uml tool
 	tests/demo
 
+# Figures against DESIGN §6 on the primary kernel (build/bench.json).
+bench: VERSIONS = 6.12
+bench: uml tool
+	tests/bench/bench
+
 fuzz:
 	$(MAKE) -C $(TOOL) fuzz
 
