@@ -143,9 +143,11 @@ knob motion 0
 
 # The encoding of each calibbias value in parameters 27..29 (float g).
 enc=
+declare -A ENC
 for v in $CALIBBIAS; do
 	echo "$v" >"$DEV/in_accel_x_calibbias"
-	enc="$enc $(dbg_get params 27)"
+	ENC[$v]=$(dbg_get params 27)
+	enc="$enc ${ENC[$v]}"
 done
 echo 0 >"$DEV/in_accel_x_calibbias"
 
@@ -280,6 +282,13 @@ is "calibbias reads are values written" \
 # shellcheck disable=SC2086
 is "sampling_frequency reads are rates written" \
 	"$(sort -u "$T/vals.sf_reader.a" | grep -vxF -e ${RATES// / -e } -e ${MAGN_RATES// / -e })" ""
+
+# What the driver reports as calibbias is what the chip holds.
+for a in x y z; do
+	v=$(cat "$DEV/in_accel_${a}_calibbias")
+	p=$(dbg_get params $((27 + $(expr index xyz $a) - 1)))
+	is "calibbias $a ($v) is the chip's parameter ($p)" "${ENC[$v]:-not written}" "$p"
+done
 
 # The device still works: capture, restore, save, read.
 ok "chip idle after the storm" chip_idle
