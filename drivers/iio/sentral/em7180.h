@@ -189,6 +189,8 @@ int em7180_chip_resume(struct em7180_data *data);
 
 int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 			   bool write);
+int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
+			     loff_t off, size_t count);
 int em7180_format_score(char *buf, size_t size, u16 raw);
 
 #endif /* _EM7180_H_ */

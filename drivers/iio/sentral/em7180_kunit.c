@@ -3,7 +3,8 @@
  * KUnit tests for the EM7180 driver: parameter transfer against an emulated
  * register map on a custom regmap bus (exact bus sequences, batches,
  * acknowledge latency, timeouts, bus errors), float conversions, the
- * calibration score format and warm start blob validation.
+ * calibration score format, warm start blob validation and the warmstart
+ * attribute's write path fed with random blobs, sizes and offsets.
  */
 
 #include <kunit/test.h>
@@ -13,6 +14,7 @@
 #include <linux/limits.h>
 #include <linux/module.h>
 #include <linux/mutex.h>
+#include <linux/prandom.h>
 #include <linux/regmap.h>
 #include <linux/string.h>
 
@@ -573,6 +575,159 @@ static void em7180_test_warmstart_check(struct kunit *test)
 	}
 }
 
+#define WS_FUZZ_SEED		0x7180
+#define WS_FUZZ_ROUNDS		400
+#define WS_FUZZ_BUF		(2 * EM7180_WS_SIZE + 64)
+
+enum ws_fuzz_kind {
+	WS_FUZZ_VALID,
+	WS_FUZZ_SIZE,
+	WS_FUZZ_OFFSET,
+	WS_FUZZ_NOT_FINITE,
+	WS_FUZZ_KINDS
+};
+
+/* A random float32 that is not NaN or infinite: any sign, exponent 0..254 */
+static u32 ws_fuzz_finite(struct rnd_state *rnd)
+{
+	u32 v = prandom_u32_state(rnd);
+
+	if ((v & 0x7F800000) == 0x7F800000)
+		v &= ~BIT(23 + prandom_u32_state(rnd) % 8);
+	return v;
+}
+
+/* NaN (quiet or signalling) or an infinity of either sign */
+static u32 ws_fuzz_not_finite(struct rnd_state *rnd)
+{
+	u32 v = prandom_u32_state(rnd);
+
+	switch (v % 3) {
+	case 0:
+		return (v & BIT(31)) | 0x7F800000;
+	case 1:
+		return v | 0x7FC00000;
+	default:
+		return v | 0x7F800001;
+	}
+}
+
+/*
+ * The warmstart write path with a fixed-seed sequence of blobs: valid ones,
+ * wrong sizes, wrong offsets and non-finite values. A refused write must
+ * not reach the bus at all; an accepted one must leave exactly the blob in
+ * parameters 1..35 and the chip out of transfer mode.
+ */
+static void em7180_test_warmstart_fuzz(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	unsigned int round, i, n, kinds[WS_FUZZ_KINDS] = { };
+	u32 before[EM7180_PARAM_MAX + 1];
+	struct em7180_data *data;
+	struct iio_dev *indio_dev;
+	struct rnd_state rnd;
+	enum ws_fuzz_kind kind;
+	size_t count;
+	loff_t off;
+	u8 *buf;
+	int ret;
+
+	buf = kunit_kzalloc(test, WS_FUZZ_BUF, GFP_KERNEL);
+	KUNIT_ASSERT_NOT_NULL(test, buf);
+
+	/* An unregistered IIO device around the emulated chip's regmap */
+	indio_dev = iio_device_alloc(t->dev, sizeof(*data));
+	KUNIT_ASSERT_NOT_NULL(test, indio_dev);
+	data = iio_priv(indio_dev);
+	data->dev = t->dev;
+	data->regmap = t->data.regmap;
+	mutex_init(&data->lock);
+	/* No acknowledge latency: the learned wait soon drops to nothing */
+	em7180_param_init(data);
+
+	prandom_seed_state(&rnd, WS_FUZZ_SEED);
+	for (round = 0; round < WS_FUZZ_ROUNDS; round++) {
+		kind = prandom_u32_state(&rnd) % WS_FUZZ_KINDS;
+		kinds[kind]++;
+		count = EM7180_WS_SIZE;
+		off = 0;
+		for (i = 0; i + 4 <= WS_FUZZ_BUF; i += 4)
+			put_unaligned_le32(ws_fuzz_finite(&rnd), &buf[i]);
+
+		switch (kind) {
+		case WS_FUZZ_SIZE:
+			/* Near the right size half of the time, else anywhere */
+			if (prandom_u32_state(&rnd) & 1)
+				count = EM7180_WS_SIZE - 8 +
+					prandom_u32_state(&rnd) % 17;
+			else
+				count = prandom_u32_state(&rnd) % WS_FUZZ_BUF;
+			if (count == EM7180_WS_SIZE)
+				count++;
+			break;
+		case WS_FUZZ_OFFSET:
+			off = 1 + prandom_u32_state(&rnd) % (4 * EM7180_WS_SIZE);
+			if (prandom_u32_state(&rnd) & 1)
+				count = 1 + prandom_u32_state(&rnd) %
+					    (WS_FUZZ_BUF - 1);
+			break;
+		case WS_FUZZ_NOT_FINITE:
+			n = 1 + prandom_u32_state(&rnd) % 3;
+			while (n--)
+				put_unaligned_le32(ws_fuzz_not_finite(&rnd),
+						   &buf[4 * (prandom_u32_state(&rnd) %
+							     EM7180_WS_NUM_PARAMS)]);
+			break;
+		default:
+			break;
+		}
+
+		memcpy(before, emu->params, sizeof(before));
+		emu->transactions = 0;
+		emu->n_log = 0;
+		ret = em7180_warmstart_restore(indio_dev, buf, off, count);
+
+		if (kind != WS_FUZZ_VALID) {
+			KUNIT_EXPECT_EQ_MSG(test, ret, -EINVAL,
+					    "round %u: kind %d, %zu bytes at %lld",
+					    round, kind, count, off);
+			KUNIT_EXPECT_EQ_MSG(test, emu->transactions, 0U,
+					    "round %u: refused write reached the bus",
+					    round);
+			KUNIT_EXPECT_TRUE_MSG(test,
+					      !memcmp(before, emu->params, sizeof(before)),
+					      "round %u: parameters changed", round);
+			continue;
+		}
+
+		KUNIT_EXPECT_EQ_MSG(test, ret, 0, "round %u", round);
+		KUNIT_EXPECT_LE_MSG(test, emu->transactions,
+				    2 * EM7180_WS_NUM_PARAMS + 4, "round %u", round);
+		for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+			KUNIT_EXPECT_EQ_MSG(test, emu->params[i + 1],
+					    get_unaligned_le32(&buf[4 * i]),
+					    "round %u: parameter %u", round, i + 1);
+		KUNIT_EXPECT_TRUE_MSG(test,
+				      !memcmp(&before[EM7180_WS_NUM_PARAMS + 1],
+					      &emu->params[EM7180_WS_NUM_PARAMS + 1],
+					      sizeof(before) - sizeof(before[0]) *
+					      (EM7180_WS_NUM_PARAMS + 1)),
+				      "round %u: a parameter beyond 35 changed", round);
+		KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
+		KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_PARAM_REQ], 0);
+		KUNIT_EXPECT_TRUE(test, data->ws_valid &&
+				  !memcmp(data->ws, buf, EM7180_WS_SIZE));
+	}
+
+	/* The seed gives every kind of input a fair share */
+	for (i = 0; i < WS_FUZZ_KINDS; i++)
+		KUNIT_EXPECT_GE_MSG(test, kinds[i], WS_FUZZ_ROUNDS / 8,
+				    "kind %u", i);
+
+	iio_device_free(indio_dev);
+}
+
 /* Configuration as probe leaves it, through the register cache */
 static void test_configure(struct kunit *test, struct em7180_test *t)
 {
@@ -665,6 +820,7 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_range),
 	KUNIT_CASE(em7180_test_pm_power_loss),
 	KUNIT_CASE(em7180_test_pm_no_power_loss),
+	KUNIT_CASE(em7180_test_warmstart_fuzz),
 	{ }
 };
 

@@ -776,11 +776,22 @@ static ssize_t warmstart_read(struct file *filp, struct kobject *kobj,
 	return ret ?: EM7180_WS_SIZE;
 }
 
-static ssize_t warmstart_write(struct file *filp, struct kobject *kobj,
-			       struct bin_attribute *attr, char *buf,
-			       loff_t off, size_t count)
+/**
+ * em7180_warmstart_restore() - write a warm start blob to the chip
+ * @indio_dev: the IIO device
+ * @buf: the blob
+ * @off: file offset of the write
+ * @count: size of the write
+ *
+ * The write path of the warmstart attribute. Anything but 35 finite floats
+ * at offset 0 is refused before the chip is touched.
+ *
+ * Return: 0, -EINVAL for a bad blob, size or offset, -EBUSY while a buffer
+ * is enabled, or the error of the parameter transfer.
+ */
+int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
+			     loff_t off, size_t count)
 {
-	struct iio_dev *indio_dev = dev_to_iio_dev(kobj_to_dev(kobj));
 	struct em7180_data *data = iio_priv(indio_dev);
 	u32 vals[EM7180_WS_NUM_PARAMS];
 	unsigned int i;
@@ -812,7 +823,16 @@ static ssize_t warmstart_write(struct file *filp, struct kobject *kobj,
 
 	iio_device_release_direct_mode(indio_dev);
 
-	return ret ?: count;
+	return ret;
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_restore);
+
+static ssize_t warmstart_write(struct file *filp, struct kobject *kobj,
+			       struct bin_attribute *attr, char *buf,
+			       loff_t off, size_t count)
+{
+	return em7180_warmstart_restore(dev_to_iio_dev(kobj_to_dev(kobj)),
+					buf, off, count) ?: count;
 }
 
 /*
