@@ -121,6 +121,8 @@ ok "stop" sim_wr 0x34 0x00
 ok "read the accel block again" sim_rd 0x1a 6
 is "gaps = samples produced between the two reads" \
 	"$(dbg_get samples accel_gaps)" $(($(dbg_get samples accel) - n - 1))
+ok "gaps_held, those a late timer made, are part of the gaps" \
+	[ "$(dbg_get samples accel_gaps_held)" -le "$(dbg_get samples accel_gaps)" ]
 
 # INT pin: high while an enabled event is pending, cleared by reading
 # EventStatus; the irq_sim line gets one rising edge per low-to-high change.

@@ -103,6 +103,8 @@ struct sim_stream {
 	u64 missed;
 	u64 read_seq;		/* produced count at the last read; 0: none */
 	u64 gaps;		/* samples skipped between two reads */
+	u64 held_unread;	/* of the misses since the last read, by a held timer */
+	u64 gaps_held;		/* gaps whose sample a held timer replaced */
 };
 
 struct sim_stats {

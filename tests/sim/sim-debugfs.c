@@ -246,6 +246,7 @@ static void samples_show(struct seq_file *m, struct sentral_sim *sim,
 		seq_printf(m, "%s_read %llu\n", name, st->read);
 		seq_printf(m, "%s_missed %llu\n", name, st->missed);
 		seq_printf(m, "%s_gaps %llu\n", name, st->gaps);
+		seq_printf(m, "%s_gaps_held %llu\n", name, st->gaps_held);
 	}
 	seq_printf(m, "timer_late %llu\n", sim->timer_late);
 }
@@ -262,6 +263,8 @@ static int samples_store(struct sentral_sim *sim, char *buf, ktime_t now)
 		sim->stream[id].missed = 0;
 		sim->stream[id].read_seq = 0;
 		sim->stream[id].gaps = 0;
+		sim->stream[id].held_unread = 0;
+		sim->stream[id].gaps_held = 0;
 		sim->stream[id].unread = false;
 	}
 	sim->timer_late = 0;

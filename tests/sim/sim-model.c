@@ -446,7 +446,9 @@ static void sim_make_quat(struct sentral_sim *sim)
 		     &sim->regs[SIM_REG_QX + 12]);
 }
 
-static void sim_produce(struct sentral_sim *sim, enum sim_stream_id id)
+/* held: the callback ran half a period or more after the sample was due */
+static void sim_produce(struct sentral_sim *sim, enum sim_stream_id id,
+			bool held)
 {
 	struct sim_stream *st = &sim->stream[id];
 	u8 base = sim_stream_base[id];
@@ -471,8 +473,11 @@ static void sim_produce(struct sentral_sim *sim, enum sim_stream_id id)
 	st->ts = st->ts_base + (u16)div64_u64((u64)st->n * SIM_FS_COUNTS *
 					      st->rate_den, st->rate_num);
 	sim_put_le16(st->ts, &sim->regs[time_reg]);
-	if (st->unread)
+	if (st->unread) {
 		st->missed++;
+		if (held)
+			st->held_unread++;
+	}
 	st->unread = true;
 	st->produced++;
 	/* EventStatus reports the data events the host enabled */
@@ -485,15 +490,18 @@ static ktime_t sim_stream_tick(struct sentral_sim *sim, enum sim_stream_id id,
 			       ktime_t now)
 {
 	struct sim_stream *st = &sim->stream[id];
+	ktime_t due = sim_stream_due(sim, st);
+	bool held;
 
-	if (ktime_after(sim_stream_due(sim, st), now))
-		return sim_stream_due(sim, st);
+	if (ktime_after(due, now))
+		return due;
 
-	sim_produce(sim, id);
+	held = ktime_to_ns(ktime_sub(now, due)) >= st->period_ns / 2;
+	sim_produce(sim, id, held);
 	if (id == SIM_GYRO &&
 	    ++sim->quat_phase > sim->regs[SIM_REG_QRATE_DIVISOR]) {
 		sim->quat_phase = 0;
-		sim_produce(sim, SIM_QUAT);
+		sim_produce(sim, SIM_QUAT, held);
 	}
 
 	st->tick++;
@@ -684,9 +692,12 @@ static void sim_mark_read(struct sentral_sim *sim, u8 reg)
 		st->unread = false;
 		st->read++;
 		/* a host that streams sees these as gaps in the sequence */
-		if (st->read_seq)
+		if (st->read_seq) {
 			st->gaps += st->produced - st->read_seq - 1;
+			st->gaps_held += st->held_unread;
+		}
 		st->read_seq = st->produced;
+		st->held_unread = 0;
 	}
 }
 
