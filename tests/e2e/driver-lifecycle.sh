@@ -99,6 +99,24 @@ is "and its trigger" "$(cat "$DEV/trigger/current_trigger")" "em7180-dev$N"
 ok "it captures again" sh -c "iio_readdev -b 16 -s 50 em7180 $CHANNELS > $T/s2.bin"
 is "50 scans" "$(stat -c %s "$T/s2.bin")" 1600
 
+# The same with a plain blocking read of the character device (the buffer
+# enabled through sysfs): the read returns an error at once.
+echo 1 >"$DEV/scan_elements/in_accel_x_en"
+echo 1 >"$DEV/buffer/enable"
+dd if="/dev/iio:device$N" of="$T/raw" bs=64 status=none 2>"$T/raw.err" &
+pid=$!
+wait_for 5 test -s "$T/raw"
+ok "blocking read capturing" test -s "$T/raw"
+t0=$(now_ms)
+ok "unbind during the blocking read" sh -c "echo $CLIENT > $DRV/unbind"
+ends "the read ends within 2 s" $pid 2
+echo "# the read ended after $(($(now_ms) - t0)) ms, status $RC: $(cat "$T/raw.err")"
+like "with an error" "$RC $(cat "$T/raw.err")" "^[1-9].*No such device"
+ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
+ok "the device is back and reads" wait_for 5 device_reads
+DEV=$(em7180_dir)
+is "buffer disabled on the new device" "$(cat "$DEV/buffer/enable")" 0
+
 # -- Unbind during a warmstart transfer --------------------------------------
 ok "save a reference blob" dd if="$DEV/warmstart" of="$T/ref" bs=4096 status=none
 # 20 ms per acknowledge: a transfer of 35 parameters takes 0.7 s.
