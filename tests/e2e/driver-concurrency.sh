@@ -183,8 +183,8 @@ done
 wait $pids
 echo "# $(($(dbg_get state irqs) - irqs0)) data-ready interrupts in ${DURATION} s"
 
-# Captures: all ended well, each delivered every scan, and they covered the
-# whole time (a capture waits at most for one transfer before it starts).
+# Captures: all ended well, each delivered every scan without a stall, and
+# they covered the whole time (a capture waits for at most one transfer).
 runs=$(wc -l <"$T/streams")
 echo "# $runs captures"
 ok "at least 5 captures in ${DURATION} s" [ "$runs" -ge 5 ]
@@ -197,7 +197,9 @@ gap=$(awk 'NR > 1 { g = $4 - e; if (g > m) m = g } { e = $5 } END { print m + 0 
 first=$(head -n 1 "$T/streams" | awk '{ print $4 }')
 last=$(tail -n 1 "$T/streams" | awk '{ print $5 }')
 echo "# longest pause between captures ${gap} ms; capturing from ${first} to ${last} ms"
-ok "no pause between captures over 2 s (${gap} ms)" [ "$gap" -le 2000 ]
+# iio_readdev takes a while to start in UML (KASAN: more): a bound that
+# still catches a device held for seconds.
+ok "no pause between captures over 5 s (${gap} ms)" [ "$gap" -le 5000 ]
 ok "captures lasted the ${DURATION} s" [ $((last - first)) -ge $((DURATION * 1000 - 2000)) ]
 out=$("$PY" - "$T" <<'PYEOF'
 import glob, struct, sys
