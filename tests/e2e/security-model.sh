@@ -248,6 +248,8 @@ is "save into a state dir owned by another user: exit 3" $? 3
 chown 0:0 "$STATE"
 chmod 0777 "$STATE"
 restore_refused "a world-writable state dir" 3
+out=$(sentral-warmstart save --force 2>&1)
+is "save into a world-writable state dir: exit 3" $? 3
 chmod 0700 "$STATE"
 cp -p /tmp/good.ws /tmp/other.ws
 chown 65534 /tmp/other.ws
