@@ -31,7 +31,7 @@
 #include "wsfile.h"
 #include "tests/fake_backend.h"
 
-static char dir[64], path[128];
+static char dir[4096], path[4096 + 32];
 static FILE *devnull;
 
 static void put_file(const uint8_t *buf, size_t len)
@@ -183,9 +183,11 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 	/* tmpfs when there is one: save fsyncs. */
 	if (!tmp)
 		tmp = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
-	snprintf(dir, sizeof(dir), "%s/sw-fuzz-XXXXXX", tmp);
-	if (!mkdtemp(dir))
+	if (snprintf(dir, sizeof(dir), "%s/sw-fuzz-XXXXXX", tmp) >=
+	    (int)sizeof(dir) || !mkdtemp(dir)) {
+		perror("fuzz_wsfile: cannot make a directory in TMPDIR");
 		abort();
+	}
 	snprintf(path, sizeof(path), "%s/platform-sentral-sim.ws", dir);
 	atexit(cleanup);
 	devnull = fopen("/dev/null", "w");
