@@ -142,7 +142,8 @@ struct iio_trigger;
  * @accel_offset_valid: @accel_offset holds what the chip has
  * @accel_offset: parameters 27..29, the accelerometer offsets in float g
  * @orientation: mount matrix from firmware
- * @timestamp: time of the last data-ready interrupt
+ * @timestamp: time of the last data-ready interrupt, written by the hard handler
+ * @scan_ts: time of the interrupt of the scan being captured
  * @burst: raw sensor registers of one scan
  * @scan: packed scan pushed to the buffer, timestamp included
  */
@@ -164,6 +165,7 @@ struct em7180_data {
 	u32 accel_offset[3];
 	struct iio_mount_matrix orientation;
 	s64 timestamp;
+	s64 scan_ts;
 	u8 burst[EM7180_BURST_LEN];
 	u8 scan[40] __aligned(8);
 };

@@ -891,7 +891,7 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 	s16 q;
 
 	if (iio_trigger_using_own(indio_dev))
-		ts = data->timestamp;
+		ts = data->scan_ts;
 
 	bit = find_first_bit(mask, EM7180_SCAN_TIMESTAMP);
 	if (bit < EM7180_SCAN_TIMESTAMP) {
@@ -933,7 +933,7 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
 	struct iio_dev *indio_dev = p;
 	struct em7180_data *data = iio_priv(indio_dev);
 
-	data->timestamp = iio_get_time_ns(indio_dev);
+	WRITE_ONCE(data->timestamp, iio_get_time_ns(indio_dev));
 	return IRQ_WAKE_THREAD;
 }
 
@@ -942,11 +942,16 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
  * level that only a successful read lowers: on an edge-triggered interrupt
  * a read lost to a bus error would leave it high and no further interrupt
  * would ever come, so the read is retried.
+ *
+ * The time of the interrupt is taken before that read: once INT is low
+ * the next sample can raise a new edge, whose hard handler overwrites
+ * data->timestamp before this scan has been captured.
  */
 static irqreturn_t em7180_irq_thread(int irq, void *p)
 {
 	struct iio_dev *indio_dev = p;
 	struct em7180_data *data = iio_priv(indio_dev);
+	s64 ts = READ_ONCE(data->timestamp);
 	unsigned int status, err = 0;
 	int ret, err_ret = 0, tries = EM7180_EVENT_READ_TRIES;
 
@@ -971,8 +976,11 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	else if (status & EM7180_EVENT_ERROR)
 		dev_err_ratelimited(data->dev, "chip error 0x%02x\n", err);
 
-	if (status & EM7180_EVENT_DATA)
+	if (status & EM7180_EVENT_DATA) {
+		/* The trigger handler runs nested, in this thread */
+		data->scan_ts = ts;
 		em7180_trigger_poll_nested(data->trig);
+	}
 
 	return IRQ_HANDLED;
 }
