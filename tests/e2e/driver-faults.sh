@@ -339,21 +339,27 @@ ok "and the chip holds the blob" restored_ok "$TMP/blob1"
 ok "after ack_never: save works" save
 ok "and is right" saved_ok
 
-# A slow acknowledge below the timeout: 0.9 s for one parameter, 20 ms for
-# each of a whole blob.
-slow=0
+# A slow acknowledge below the timeout: 0.9 s for one parameter and for
+# each of the 3 a probe reads, 20 ms for each of a whole blob.
 knob ack_latency_us 900000
 ok "ack 0.9 s: write calibbias" sh -c "echo -47 >$DEV/in_accel_x_calibbias"
 is "ack 0.9 s: calibbias reads back" "$(cat "$DEV/in_accel_x_calibbias")" -47
 is "parameter 27 is Table 1's" "$(dbg_get params 27)" 0xbcbbe447
 ok "chip running" chip_idle
+ok "unbind" unbind
+ok "ack 0.9 s: probe" bind
+ok "bound" bound
+find_dev
+ok "chip running" chip_idle
+is "calibbias read at probe" "$(cat "$DEV/in_accel_x_calibbias")" -47
+ok "calibbias x 0 again" sh -c "echo 0 >$DEV/in_accel_x_calibbias"
 knob ack_latency_us 20000
 ok "ack 20 ms: restore" restore "$TMP/blob0"
 ok "and the chip holds the blob" restored_ok "$TMP/blob0"
 ok "ack 20 ms: save" save
 ok "and is right" saved_ok
 ok "chip running" chip_idle
-slow=4
+slow=5
 knob ack_latency_us 500
 ok "ack 500 us again: restore" restore "$TMP/orig"
 ok "and the chip holds the blob" restored_ok "$TMP/orig"
