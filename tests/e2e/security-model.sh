@@ -235,6 +235,8 @@ cp -p /tmp/good.ws "$f"
 ok "the good file restores" sentral-warmstart restore
 chown 65534:65534 "$f"
 restore_refused "a state file owned by another user" 3
+out=$(sentral-warmstart status 2>&1)
+is "status refuses it too: exit 3" $? 3
 chown 0:0 "$f"
 chmod 0666 "$f"
 restore_refused "a world-writable state file" 3
@@ -254,6 +256,9 @@ chmod 0700 "$STATE"
 cp -p /tmp/good.ws /tmp/other.ws
 chown 65534 /tmp/other.ws
 restore_refused "a --file file owned by another user" 3 --file /tmp/other.ws
+chown 0 /tmp/other.ws
+chmod 0666 /tmp/other.ws
+restore_refused "a world-writable --file file" 3 --file /tmp/other.ws
 ok "save --file into /tmp" sentral-warmstart save --force --file /tmp/mine.ws
 is "leaves the mode of /tmp alone" "$(stat -c %a /tmp)" 1777
 mv "$STATE" /var/lib/sw.real
@@ -307,7 +312,7 @@ EOF
 for case in "magic:0:<B:0" "version 2:8:<H:2" "payload size 139:28:<H:139" \
 	"reserved byte:17:<B:1" "param 1 +Inf:32:<I:0x7f800000" "param 20 signalling NaN:108:<I:0x7f800001" \
 	"param 35 -Inf:168:<I:0xff800000" "ProductID 0x81:10:<B:0x81" \
-	"ROM version 0x1234:12:<H:0x1234" "calibration status 4:16:<B:4"; do
+	"ROM version 0x1234:12:<H:0x1234" "RAM version 0x1234:14:<H:0x1234" "calibration status 4:16:<B:4"; do
 	IFS=: read -r desc off fmt val <<<"$case"
 	forge /tmp/forged.ws "$off" "$fmt" "$val"
 	restore_refused "$desc with a valid CRC" 3 --file /tmp/forged.ws
