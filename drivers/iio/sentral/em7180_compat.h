@@ -15,13 +15,6 @@
 #include <asm/unaligned.h>
 #endif
 
-/* REGCACHE_MAPLE arrived in 6.4 */
-#if KERNEL_VERSION(6, 4, 0) <= LINUX_VERSION_CODE
-#define EM7180_REGCACHE			REGCACHE_MAPLE
-#else
-#define EM7180_REGCACHE			REGCACHE_RBTREE
-#endif
-
 /* iio_trigger_poll_chained() was renamed in 6.4 */
 #if KERNEL_VERSION(6, 4, 0) <= LINUX_VERSION_CODE
 #define em7180_trigger_poll_nested(trig)	iio_trigger_poll_nested(trig)

@@ -129,6 +129,13 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 	emu_serve(emu);
 	emu->regs[EM7180_REG_ALGO_STATUS] = emu->regs[EM7180_REG_ALGO_CTRL] &
 					    EM7180_ALGO_CTRL_STANDBY;
+	/* Once uploaded, the CPU is in standby until the host runs it */
+	if (emu->regs[EM7180_REG_SENTRAL_STATUS] & EM7180_SENTRAL_UPLOAD_DONE) {
+		if (emu->regs[EM7180_REG_HOST_CTRL] & EM7180_HOST_CTRL_RUN)
+			emu->regs[EM7180_REG_SENTRAL_STATUS] &= ~EM7180_SENTRAL_STANDBY;
+		else
+			emu->regs[EM7180_REG_SENTRAL_STATUS] |= EM7180_SENTRAL_STANDBY;
+	}
 	for (i = 0; i < val_size; i++)
 		((u8 *)val_buf)[i] = emu->regs[(u8)(reg + i)];
 	emu_log(emu, false, reg, val_buf, val_size);
@@ -751,19 +758,9 @@ static void test_configure(struct kunit *test, struct em7180_test *t)
 	t->emu.regs[EM7180_REG_SENTRAL_STATUS] = 0x03;
 }
 
-static void em7180_test_pm_power_loss(struct kunit *test)
+/* Power lost: registers and parameters gone, CPU in standby */
+static void test_power_loss(struct em7180_emu *emu)
 {
-	struct em7180_test *t = test->priv;
-	struct em7180_emu *emu = &t->emu;
-	unsigned int i;
-
-	test_configure(test, t);
-
-	KUNIT_ASSERT_EQ(test, em7180_chip_suspend(&t->data), 0);
-	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL],
-			EM7180_ALGO_CTRL_STANDBY);
-
-	/* Power lost: registers and parameters gone, CPU in standby */
 	memset(emu->regs, 0, sizeof(emu->regs));
 	memset(emu->params, 0, sizeof(emu->params));
 	emu->regs[EM7180_REG_SENTRAL_STATUS] = 0x0B;
@@ -772,21 +769,75 @@ static void em7180_test_pm_power_loss(struct kunit *test)
 	emu->regs[EM7180_REG_ROM_VERSION + 1] = 0x09;
 	emu->regs[EM7180_REG_RAM_VERSION] = 0x17;
 	emu->regs[EM7180_REG_RAM_VERSION + 1] = 0x0D;
+}
+
+/* The state test_configure() set up, back on the chip */
+static void expect_restored(struct kunit *test, struct em7180_test *t,
+			    unsigned int nack)
+{
+	struct em7180_emu *emu = &t->emu;
+	unsigned int i;
+
+	KUNIT_EXPECT_EQ_MSG(test, emu->regs[EM7180_REG_MAG_RATE], 30, "NACK at %u", nack);
+	KUNIT_EXPECT_EQ_MSG(test, emu->regs[EM7180_REG_ACCEL_RATE], 10, "NACK at %u", nack);
+	KUNIT_EXPECT_EQ_MSG(test, emu->regs[EM7180_REG_GYRO_RATE], 20, "NACK at %u", nack);
+	KUNIT_EXPECT_EQ_MSG(test, emu->regs[EM7180_REG_ENABLE_EVENTS],
+			    EM7180_EVENT_ERROR, "NACK at %u", nack);
+	KUNIT_EXPECT_EQ_MSG(test, emu->regs[EM7180_REG_HOST_CTRL],
+			    EM7180_HOST_CTRL_RUN, "NACK at %u", nack);
+	KUNIT_EXPECT_EQ_MSG(test, emu->regs[EM7180_REG_ALGO_CTRL], 0, "NACK at %u", nack);
+	KUNIT_EXPECT_EQ_MSG(test, emu->regs[EM7180_REG_PARAM_REQ], 0, "NACK at %u", nack);
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		KUNIT_EXPECT_EQ_MSG(test, emu->params[i + 1], 0x3F800000 + i,
+				    "NACK at %u: parameter %u", nack, i + 1);
+}
+
+static void em7180_test_pm_power_loss(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+
+	test_configure(test, t);
+
+	KUNIT_ASSERT_EQ(test, em7180_chip_suspend(&t->data), 0);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL],
+			EM7180_ALGO_CTRL_STANDBY);
+
+	test_power_loss(emu);
 
 	KUNIT_ASSERT_EQ(test, em7180_chip_resume(&t->data), 0);
 	KUNIT_EXPECT_EQ(test, t->data.rom_version, 0x09E6);
 	KUNIT_EXPECT_EQ(test, t->data.ram_version, 0x0D17);
-	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_MAG_RATE], 30);
-	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ACCEL_RATE], 10);
-	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_GYRO_RATE], 20);
-	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ENABLE_EVENTS],
-			EM7180_EVENT_ERROR);
-	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_HOST_CTRL],
-			EM7180_HOST_CTRL_RUN);
-	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
-		KUNIT_EXPECT_EQ_MSG(test, emu->params[i + 1], 0x3F800000 + i,
-				    "parameter %u", i + 1);
+	expect_restored(test, t, 0);
 	expect_ended(test, emu);
+}
+
+/*
+ * A bus error at each transaction of a resume after a power loss, in turn:
+ * the resume is retried once, so each single error is recovered.
+ */
+static void em7180_test_pm_power_loss_nack(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	unsigned int n, clean = 0;
+
+	test_configure(test, t);
+	KUNIT_ASSERT_EQ(test, em7180_chip_suspend(&t->data), 0);
+
+	for (n = 0; n <= clean; n++) {
+		test_power_loss(emu);
+		emu->transactions = 0;
+		emu->nack_at = n;
+		KUNIT_EXPECT_EQ_MSG(test, em7180_chip_resume(&t->data), 0,
+				    "NACK at %u", n);
+		expect_restored(test, t, n);
+		emu->n_log = 0;
+		if (!n)
+			clean = emu->transactions;
+		KUNIT_ASSERT_LT(test, n, 200U);
+	}
+	KUNIT_EXPECT_GT(test, clean, 2 * EM7180_WS_NUM_PARAMS + 3);
 }
 
 static void em7180_test_pm_no_power_loss(struct kunit *test)
@@ -819,6 +870,7 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_nack),
 	KUNIT_CASE(em7180_test_param_range),
 	KUNIT_CASE(em7180_test_pm_power_loss),
+	KUNIT_CASE(em7180_test_pm_power_loss_nack),
 	KUNIT_CASE(em7180_test_pm_no_power_loss),
 	KUNIT_CASE(em7180_test_warmstart_fuzz),
 	{ }

@@ -108,7 +108,14 @@ const struct regmap_config em7180_regmap_config = {
 	.wr_table = &em7180_writeable_table,
 	.volatile_table = &em7180_volatile_table,
 	.precious_table = &em7180_precious_table,
-	.cache_type = EM7180_REGCACHE,
+	/*
+	 * The cache holds the configuration a resume after a power loss
+	 * writes back. The tree caches drop a register whose write failed,
+	 * and its neighbour with it (regmap drops reg..reg + 1), so one bus
+	 * error at AlgorithmControl would lose the magnetometer rate; the
+	 * flat cache keeps what the driver asked for.
+	 */
+	.cache_type = REGCACHE_FLAT,
 };
 EXPORT_SYMBOL_NS_GPL(em7180_regmap_config, IIO_EM7180);
 
@@ -1302,6 +1309,59 @@ int em7180_chip_suspend(struct em7180_data *data)
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_chip_suspend);
 
+/*
+ * One attempt at em7180_chip_resume(). @lost is set once a power loss has
+ * been seen: a failed attempt may have set the chip running already, after
+ * which SentralStatus no longer shows it.
+ */
+static int em7180_chip_restore(struct em7180_data *data, bool *lost)
+{
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	unsigned int status, i;
+	int ret;
+
+	ret = regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, &status);
+	if (ret)
+		return ret;
+
+	if (!*lost && !(status & EM7180_SENTRAL_STANDBY))
+		return regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+
+	if (!*lost)
+		dev_info(data->dev, "chip lost power, restoring its state\n");
+	*lost = true;
+	data->accel_offset_valid = false;
+
+	ret = em7180_wait_firmware(data);
+	if (ret)
+		return ret;
+
+	/* The firmware was uploaded again, maybe a different one */
+	ret = em7180_read_versions(data);
+	if (ret)
+		return ret;
+
+	regcache_mark_dirty(data->regmap);
+	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+	if (!ret)
+		ret = regcache_sync_region(data->regmap,
+					   EM7180_REG_QRATE_DIVISOR,
+					   EM7180_REG_GYRO_RATE);
+	if (ret)
+		return ret;
+	if (!data->ws_valid)
+		return em7180_accel_offset_fetch(data);
+
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		vals[i] = get_unaligned_le32(&data->ws[4 * i]);
+	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
+				  EM7180_WS_NUM_PARAMS, vals);
+	if (!ret)
+		em7180_accel_offset_set(data, vals);
+
+	return ret;
+}
+
 /**
  * em7180_chip_resume() - run again, restoring the chip after a power loss
  * @data: driver state
@@ -1311,58 +1371,24 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_chip_suspend);
  * reset the firmware versions are read again, and the configuration and
  * the last warm start read or written through the driver are written back.
  *
+ * A chip left half restored would stay so, maybe not even running, until
+ * the next resume: after a bus error the whole sequence, whose steps can
+ * all be repeated, is tried once more. A timeout, which already took
+ * seconds, is not.
+ *
  * Return: 0 or a negative error code.
  */
 int em7180_chip_resume(struct em7180_data *data)
 {
-	u32 vals[EM7180_WS_NUM_PARAMS];
-	unsigned int status, i;
+	bool lost = false;
 	int ret;
 
 	mutex_lock(&data->lock);
-
-	ret = regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, &status);
-	if (ret)
-		goto out;
-
-	if (!(status & EM7180_SENTRAL_STANDBY)) {
-		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
-		goto out;
-	}
-
-	dev_info(data->dev, "chip lost power, restoring its state\n");
-	data->accel_offset_valid = false;
-
-	ret = em7180_wait_firmware(data);
-	if (ret)
-		goto out;
-
-	/* The firmware was uploaded again, maybe a different one */
-	ret = em7180_read_versions(data);
-	if (ret)
-		goto out;
-
-	regcache_mark_dirty(data->regmap);
-	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
-	if (!ret)
-		ret = regcache_sync_region(data->regmap,
-					   EM7180_REG_QRATE_DIVISOR,
-					   EM7180_REG_GYRO_RATE);
-	if (ret)
-		goto out;
-	if (!data->ws_valid) {
-		ret = em7180_accel_offset_fetch(data);
-		goto out;
-	}
-
-	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
-		vals[i] = get_unaligned_le32(&data->ws[4 * i]);
-	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
-				  EM7180_WS_NUM_PARAMS, vals);
-	if (!ret)
-		em7180_accel_offset_set(data, vals);
-out:
+	ret = em7180_chip_restore(data, &lost);
+	if (ret && ret != -ETIMEDOUT && ret != -ENODEV)
+		ret = em7180_chip_restore(data, &lost);
 	mutex_unlock(&data->lock);
+
 	return ret;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_chip_resume);
