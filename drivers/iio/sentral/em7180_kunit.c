@@ -270,7 +270,8 @@ static void em7180_test_param_write_sequence(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, emu->n_log, 5U);
 	expect_xfer(test, emu, 0, true, EM7180_REG_ALGO_CTRL, &start, 1);
 	expect_xfer(test, emu, 1, true, EM7180_REG_LOAD_PARAM, burst, 5);
-	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL, 5);
+	/* a write polls the acknowledge byte alone */
+	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL, 1);
 	expect_ended(test, emu);
 }
 
@@ -293,7 +294,7 @@ static void em7180_test_param_batch(struct kunit *test)
 		expect_xfer(test, emu, 1 + 2 * i, true, EM7180_REG_LOAD_PARAM,
 			    burst, 5);
 		expect_xfer(test, emu, 2 + 2 * i, false, EM7180_REG_PARAM_ACK,
-			    NULL, 5);
+			    NULL, 1);
 		KUNIT_EXPECT_EQ(test, emu->params[i + 1], in[i]);
 	}
 	expect_ended(test, emu);
