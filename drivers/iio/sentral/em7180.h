@@ -17,9 +17,13 @@
 #include <linux/types.h>
 
 #define EM7180_REG_QX			0x00	/* float32 x, y, z, w */
+#define EM7180_REG_QTIME		0x10	/* u16 LE, 1/32768 s */
 #define EM7180_REG_MX			0x12
+#define EM7180_REG_MTIME		0x18
 #define EM7180_REG_AX			0x1A
+#define EM7180_REG_ATIME		0x20
 #define EM7180_REG_GX			0x22
+#define EM7180_REG_GTIME		0x28
 #define EM7180_REG_DATA_END		0x31
 #define EM7180_REG_QRATE_DIVISOR	0x32
 #define EM7180_REG_ENABLE_EVENTS	0x33
@@ -119,8 +123,11 @@ enum em7180_scan {
  */
 #define EM7180_QUAT_FRAC_BITS		14
 
-/* One burst covers quaternion, magnetometer, accelerometer and gyroscope */
-#define EM7180_BURST_LEN		(EM7180_REG_GX + 6 - EM7180_REG_QX)
+/*
+ * One burst covers quaternion, magnetometer, accelerometer and gyroscope,
+ * each followed by its TIME register
+ */
+#define EM7180_BURST_LEN		(EM7180_REG_GTIME + 2 - EM7180_REG_QX)
 
 struct iio_trigger;
 
@@ -145,6 +152,9 @@ struct iio_trigger;
  * @timestamp: time of the last data-ready interrupt, written by the hard handler
  * @scan_ts: time of the interrupt of the scan being captured
  * @burst: raw sensor registers of one scan
+ * @last_burst: the registers of the scan pushed last
+ * @last_start: first register of @last_burst
+ * @last_len: size of @last_burst, 0 when nothing was pushed yet
  * @scan: packed scan pushed to the buffer, timestamp included
  */
 struct em7180_data {
@@ -167,6 +177,9 @@ struct em7180_data {
 	s64 timestamp;
 	s64 scan_ts;
 	u8 burst[EM7180_BURST_LEN];
+	u8 last_burst[EM7180_BURST_LEN];
+	unsigned int last_start;
+	unsigned int last_len;
 	u8 scan[40] __aligned(8);
 };
 

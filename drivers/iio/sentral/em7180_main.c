@@ -199,12 +199,6 @@ static const struct iio_chan_spec em7180_channels[] = {
 	IIO_CHAN_SOFT_TIMESTAMP(EM7180_SCAN_TIMESTAMP),
 };
 
-/* Register bytes of a channel: float32 x 4 for the quaternion, else s16 */
-static unsigned int em7180_chan_bytes(const struct iio_chan_spec *chan)
-{
-	return chan->type == IIO_ROT ? 16 : 2;
-}
-
 /* One quaternion component, float32 from the chip, as Q14 in an s16 */
 static s16 em7180_quat_component(const u8 *src)
 {
@@ -880,9 +874,31 @@ static const struct iio_info em7180_info = {
 	.attrs = &em7180_attr_group,
 };
 
+/* End of the burst whose last channel is @hi: its sensor's TIME included */
+static unsigned int em7180_burst_end(const struct iio_chan_spec *hi)
+{
+	switch (hi->type) {
+	case IIO_ROT:
+		return EM7180_REG_QTIME + 2;
+	case IIO_MAGN:
+		return EM7180_REG_MTIME + 2;
+	case IIO_ACCEL:
+		return EM7180_REG_ATIME + 2;
+	default:
+		return EM7180_REG_GTIME + 2;
+	}
+}
+
 /*
  * Copy the enabled channels out of one burst that spans them, in scan
  * order; the quaternion floats become fixed point on the way.
+ *
+ * A sample that arrives between the EventStatus read and the burst is read
+ * by the burst of the previous interrupt, and its own interrupt then finds
+ * the same registers again. The burst includes the TIME register of the
+ * last sensor it covers, so unchanged registers mean the same samples: with
+ * the chip's own trigger such a scan is not pushed twice. Any other trigger
+ * samples whatever the chip holds.
  */
 static irqreturn_t em7180_trigger_handler(int irq, void *p)
 {
@@ -890,14 +906,16 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 	struct iio_dev *indio_dev = pf->indio_dev;
 	struct em7180_data *data = iio_priv(indio_dev);
 	const unsigned long *mask = indio_dev->active_scan_mask;
+	bool own = iio_trigger_using_own(indio_dev);
 	const struct iio_chan_spec *lo, *hi;
-	unsigned int bit, start, pos = 0;
+	unsigned int bit, start, len, pos = 0;
 	s64 ts = pf->timestamp;
+	bool again = false;
 	const u8 *src;
 	int i, ret;
 	s16 q;
 
-	if (iio_trigger_using_own(indio_dev))
+	if (own)
 		ts = data->scan_ts;
 
 	bit = find_first_bit(mask, EM7180_SCAN_TIMESTAMP);
@@ -905,12 +923,20 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 		lo = &em7180_channels[bit];
 		hi = &em7180_channels[find_last_bit(mask, EM7180_SCAN_TIMESTAMP)];
 		start = lo->address;
+		len = em7180_burst_end(hi) - start;
 
 		mutex_lock(&data->lock);
-		ret = regmap_bulk_read(data->regmap, start, data->burst,
-				       hi->address + em7180_chan_bytes(hi) - start);
+		ret = regmap_bulk_read(data->regmap, start, data->burst, len);
+		if (!ret && own) {
+			again = data->last_len == len &&
+				data->last_start == start &&
+				!memcmp(data->last_burst, data->burst, len);
+			memcpy(data->last_burst, data->burst, len);
+			data->last_start = start;
+			data->last_len = len;
+		}
 		mutex_unlock(&data->lock);
-		if (ret)
+		if (ret || again)
 			goto done;
 
 		for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP) {
@@ -1022,6 +1048,8 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 	}
 
 	mutex_lock(&data->lock);
+	/* A new capture: nothing pushed yet that a scan could repeat */
+	data->last_len = 0;
 	ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS, events);
 	if (ret && !state)
 		ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
