@@ -113,7 +113,9 @@ if mkdir /sys/kernel/config/iio/triggers/hrtimer/t0 2>/dev/null; then
 	echo "# hrtimer: $t bus transactions for 20 samples"
 	ok "hrtimer: one burst per scan" [ "$t" -le 30 ]
 	echo "em7180-dev$N" >"$DEV/trigger/current_trigger"
-	rmdir /sys/kernel/config/iio/triggers/hrtimer/t0
+	# t0 stays: removing a software trigger is a use-after-free in
+	# Linux 6.12 itself (trigger_drop_group() puts the config item after
+	# the hrtimer trigger's remove() freed it), which KASAN reports.
 else
 	ok "hrtimer trigger available" false
 fi
