@@ -5,7 +5,7 @@
 # directory (tests/uml/run --udev --state DIR), like reboots of a real
 # machine:
 #   1. calibrate (simulated motion) and save;
-#   2. udev restores at probe: calibration_status is 3 without any motion
+#   2. udev restores at probe: in_magn_calibration_auto_status is 3 without any motion
 #      and the chip's blob equals the saved payload;
 #   3. with the file corrupted, the restore at probe is refused, the message
 #      is in the kernel log and the chip is left alone.
@@ -27,16 +27,16 @@ if [ "${1:-}" = --inside ]; then
 		# Seed step 2: the gyro bias learned while still is part of
 		# the warm start (and the next boot re-learns the same one).
 		ok "gyro bias learned while still" \
-			wait_for 10 grep -qx 1 "$DEV/gyro_bias_update"
+			wait_for 10 grep -qx 1 "$DEV/in_anglvel_calibration_update"
 		ok "save" sentral-warmstart save
 		ok "file saved" test -f "$f"
 		;;
 	second)
 		like "restored at probe by udev" "$(dmesg)" "restored iio:device[0-9]+ calibration from $f"
-		is "calibration_status 3 without motion" "$(cal_status)" 3
+		is "in_magn_calibration_auto_status 3 without motion" "$(cal_status)" 3
 		is "motion never set this boot" "$(cat "$SIM_DBG/motion")" 0
 		is "the chip's blob equals the saved payload" \
-			"$(blob_words <"$DEV/warmstart")" "$(file_payload_words "$f")"
+			"$(blob_words <"$DEV/calibration_data")" "$(file_payload_words "$f")"
 		;;
 	third)
 		like "refused at probe, logged with the check" "$(dmesg)" \

@@ -93,14 +93,14 @@ echo 100 >"$DEV/in_anglvel_sampling_frequency"
 iio_readdev -b 16 -s 0 em7180 accel_x >/dev/null &
 pid=$!
 sleep 1
-nok "warmstart read while capturing: EBUSY" dd if="$DEV/warmstart" of=/dev/null bs=4096 status=none
-like "and the error is EBUSY" "$(dd if="$DEV/warmstart" of=/dev/null bs=4096 2>&1)" "busy"
+nok "calibration_data read while capturing: EBUSY" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
+like "and the error is EBUSY" "$(dd if="$DEV/calibration_data" of=/dev/null bs=4096 2>&1)" "busy"
 nok "calibbias write while capturing" sh -c "echo 1 > $DEV/in_accel_x_calibbias"
 nok "sampling_frequency write while capturing" sh -c "echo 200 > $DEV/in_accel_sampling_frequency"
-ok "calibration_status readable while capturing" cat "$DEV/calibration_status"
+ok "in_magn_calibration_auto_status readable while capturing" cat "$DEV/in_magn_calibration_auto_status"
 kill "$pid"
 wait "$pid" 2>/dev/null
-ok "warmstart readable after capture" dd if="$DEV/warmstart" of=/dev/null bs=4096 status=none
+ok "calibration_data readable after capture" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
 
 # Any other trigger when wanted: an hrtimer trigger
 if mkdir /sys/kernel/config/iio/triggers/hrtimer/t0 2>/dev/null; then

@@ -3,10 +3,10 @@
 #
 # The em7180 driver under concurrent use for 30 s: iio_readdev captures
 # accel, gyro and quaternion through the driver's own trigger, run after run,
-# while parallel readers and writers hammer warmstart (complete blobs from a
+# while parallel readers and writers hammer calibration_data (complete blobs from a
 # small known set), in_accel_*_calibbias and the sampling frequencies.  Every
 # access either succeeds or is refused with EBUSY (a capture is running);
-# every warmstart read is one complete written blob, never a mix; every
+# every calibration_data read is one complete written blob, never a mix; every
 # value read was written; every capture ends well; the device works after.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/lib/em7180.sh"
@@ -50,7 +50,7 @@ result() {
 ws_writer() {
 	while ((EPOCHSECONDS < END)); do
 		pick 1 2 3
-		dd if="$T/blob.$P" of="$DEV/warmstart" bs=140 status=none 2>"$T/e.$1"
+		dd if="$T/blob.$P" of="$DEV/calibration_data" bs=140 status=none 2>"$T/e.$1"
 		result $? "$1"
 	done >"$T/log.$1"
 }
@@ -59,7 +59,7 @@ ws_writer() {
 # read adds nothing; anything but whole blobs fails the check).
 ws_reader() {
 	while ((EPOCHSECONDS < END)); do
-		dd if="$DEV/warmstart" bs=4096 status=none 2>"$T/e.$1" >>"$T/reads.$1"
+		dd if="$DEV/calibration_data" bs=4096 status=none 2>"$T/e.$1" >>"$T/reads.$1"
 		result $? "$1"
 	done >"$T/log.$1"
 }
@@ -153,7 +153,7 @@ echo 0 >"$DEV/in_accel_x_calibbias"
 
 # Three valid blobs that differ from each other in every parameter except
 # 27..29, which the calibbias writers change and which stay as read.
-ok "initial blob read" dd if="$DEV/warmstart" of="$T/blob.0" bs=4096 status=none
+ok "initial blob read" dd if="$DEV/calibration_data" of="$T/blob.0" bs=4096 status=none
 "$PY" - "$T" <<'PYEOF'
 import struct, sys
 t = sys.argv[1]
@@ -241,7 +241,7 @@ for w in ws_writer.a ws_writer.b ws_reader.a ws_reader.b cb_writer.a cb_reader.a
 	ok "$w: some accesses succeeded" [ "$(count "$w" ok)" -gt 0 ]
 done
 ws_busy=$(($(count ws_writer.a busy) + $(count ws_reader.a busy)))
-ok "warmstart accesses met running captures ($ws_busy EBUSY)" [ "$ws_busy" -gt 0 ]
+ok "calibration_data accesses met running captures ($ws_busy EBUSY)" [ "$ws_busy" -gt 0 ]
 
 # No torn blob: parameters 1..26 and 30..35 of every read are those of one
 # blob, 27..29 each one of the calibbias encodings.
@@ -275,7 +275,7 @@ if n < 2:
     sys.exit("too few reads")
 PYEOF
 )
-is "no torn warmstart blob" "$?" 0
+is "no torn calibration_data blob" "$?" 0
 echo "# $out"
 
 # shellcheck disable=SC2086
@@ -297,9 +297,9 @@ ok "chip idle after the storm" chip_idle
 # shellcheck disable=SC2086
 ok "a capture after the storm" sh -c "iio_readdev -b 16 -s 20 em7180 $CHANNELS > $T/after.bin"
 is "20 scans" "$(stat -c %s "$T/after.bin")" 640
-ok "restore the initial blob" dd if="$T/blob.0" of="$DEV/warmstart" bs=140 status=none
+ok "restore the initial blob" dd if="$T/blob.0" of="$DEV/calibration_data" bs=140 status=none
 is "the chip has it" "$(sim_ws_params)" "$(blob_words <"$T/blob.0")"
-ok "save" dd if="$DEV/warmstart" of="$T/saved" bs=4096 status=none
+ok "save" dd if="$DEV/calibration_data" of="$T/saved" bs=4096 status=none
 ok "save equals the restored blob" cmp "$T/blob.0" "$T/saved"
 like "accel reads" "$(cat "$DEV"/in_accel_{x,y,z}_raw | tr '\n' ' ')" '^-?[0-9]+ -?[0-9]+ -?[0-9]+ $'
 ok "chip idle at the end" chip_idle

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-2.0-only
 #
 # Fault sweep of the em7180 driver on the simulated chip (DESIGN §6): for
-# probe, save (warmstart read) and restore (warmstart write) the simulator
+# probe, save (calibration_data read) and restore (calibration_data write) the simulator
 # NACKs transaction 1, then 2, 3, ... until the operation runs clean. Every
 # faulted run must fail (or, when the fault only hit the recovered end of a
 # transfer, succeed with the right result), leave the chip out of
@@ -96,7 +96,7 @@ words_of() {
 }
 
 save() {
-	dd if="$DEV/warmstart" of="$TMP/saved" bs=4096 status=none 2>"$TMP/err"
+	dd if="$DEV/calibration_data" of="$TMP/saved" bs=4096 status=none 2>"$TMP/err"
 }
 
 # Two forks (od, awk); a short or long blob gives a different word list.
@@ -106,7 +106,7 @@ saved_ok() {
 }
 
 restore() {
-	dd if="$1" of="$DEV/warmstart" bs=140 status=none 2>"$TMP/err"
+	dd if="$1" of="$DEV/calibration_data" bs=140 status=none 2>"$TMP/err"
 }
 
 restored_ok() {
@@ -186,7 +186,7 @@ sweep_xfer() {
 		chip_idle || fail+=" $n:algorithm-stopped"
 		if [ "$what" = save ]; then
 			# Checked all at once after the sweep
-			dd if="$DEV/warmstart" of="$TMP/next" bs=4096 status=none \
+			dd if="$DEV/calibration_data" of="$TMP/next" bs=4096 status=none \
 				oflag=append conv=notrunc || fail+=" $n:next-save-failed"
 		else
 			{ restore "$blob" && restored_ok "$blob"; } ||

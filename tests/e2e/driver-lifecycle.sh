@@ -3,7 +3,7 @@
 #
 # The em7180 driver going away and coming back: unbind during a capture (the
 # reader ends, the device returns and captures again), unbind while a
-# 35-parameter warmstart read or write is in flight (the chip is left out of
+# 35-parameter calibration_data read or write is in flight (the chip is left out of
 # parameter-transfer mode; save and restore work after the rebind), files
 # held open across an unload, the simulated bus unloaded under a capture, and
 # 50 unloads and reloads of em7180_i2c and em7180_core, with no leak: the same
@@ -127,8 +127,8 @@ ok "the device is back and reads" wait_for 5 device_reads
 DEV=$(em7180_dir)
 is "buffer disabled on the new device" "$(cat "$DEV/buffer/enable")" 0
 
-# -- Unbind during a warmstart transfer --------------------------------------
-ok "save a reference blob" dd if="$DEV/warmstart" of="$T/ref" bs=4096 status=none
+# -- Unbind during a calibration_data transfer --------------------------------------
+ok "save a reference blob" dd if="$DEV/calibration_data" of="$T/ref" bs=4096 status=none
 # 20 ms per acknowledge: a transfer of 35 parameters takes 0.7 s.
 knob ack_latency_us 20000
 
@@ -157,21 +157,21 @@ unbind_during() {
 # The unbind waits for the sysfs access in flight (the attribute is removed
 # only when no one is inside it): the save completes, dd's next read finds
 # the device gone.
-unbind_during "save" sh -c "dd if=$DEV/warmstart bs=4096 status=none"
+unbind_during "save" sh -c "dd if=$DEV/calibration_data bs=4096 status=none"
 if [ -s "$T/out" ]; then
 	ok "the save that completed is the chip's blob" cmp "$T/out" "$T/ref"
 else
 	ok "or the save returned nothing" test "$RC" != 0
 fi
-unbind_during "restore" dd if="$T/ref" of="$DEV/warmstart" bs=140 status=none
+unbind_during "restore" dd if="$T/ref" of="$DEV/calibration_data" bs=140 status=none
 knob ack_never 1
-unbind_during "unacknowledged save" dd if="$DEV/warmstart" of=/dev/null bs=4096 status=none
+unbind_during "unacknowledged save" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
 like "which timed out" "$(cat "$T/err")" "timed out"
 knob ack_latency_us 500
 
-ok "save after the rebinds" dd if="$DEV/warmstart" of="$T/a" bs=4096 status=none
+ok "save after the rebinds" dd if="$DEV/calibration_data" of="$T/a" bs=4096 status=none
 is "save: 140 bytes" "$(stat -c %s "$T/a")" 140
-ok "restore after the rebinds" dd if="$T/a" of="$DEV/warmstart" bs=140 status=none
+ok "restore after the rebinds" dd if="$T/a" of="$DEV/calibration_data" bs=140 status=none
 is "the chip holds the blob" "$(sim_ws_params)" "$(blob_words <"$T/a")"
 ok "chip idle" chip_idle
 
@@ -179,11 +179,11 @@ ok "chip idle" chip_idle
 # The character device and a sysfs attribute stay open across the unbind and
 # the unload of em7180_i2c; using them afterwards fails cleanly, and closing
 # them lets em7180_core go (a use after free here is what KASAN would see).
-exec 3<"/dev/iio:device$N" 4<"$DEV/warmstart" 5<"$DEV/in_accel_x_raw"
+exec 3<"/dev/iio:device$N" 4<"$DEV/calibration_data" 5<"$DEV/in_accel_x_raw"
 ok "unload em7180_i2c with files open" modprobe -d "$SENTRAL_MODROOT" -r em7180_i2c
 nok "the device is gone" em7180_dir
 nok "reading the character device fails" dd bs=32 count=1 status=none <&3
-nok "reading warmstart fails" dd bs=4096 count=1 status=none <&4
+nok "reading calibration_data fails" dd bs=4096 count=1 status=none <&4
 nok "reading accel fails" dd bs=64 count=1 status=none <&5
 exec 3<&- 4<&- 5<&-
 ok "em7180_core unloads once they are closed" wait_for 5 modprobe -d "$SENTRAL_MODROOT" -r em7180_core
@@ -285,7 +285,7 @@ min=$((STRETCH * 3 / 4))
 is "no kmalloc cache grew by $min objects in both $STRETCH-cycle stretches" \
 	"$(awk -v min=$min '$3 - $2 >= min && $4 - $3 >= min' "$T/kmalloc")" ""
 DEV=$(em7180_dir)
-ok "save after the reloads" dd if="$DEV/warmstart" of="$T/b" bs=4096 status=none
+ok "save after the reloads" dd if="$DEV/calibration_data" of="$T/b" bs=4096 status=none
 ok "chip idle" chip_idle
 
 kmemleak=/sys/kernel/debug/kmemleak

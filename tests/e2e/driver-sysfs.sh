@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-2.0-only
 #
 # The em7180 IIO driver on the simulated chip: probe, every attribute read
-# with cat, calibbias and sampling_frequency written with echo, a warmstart
+# with cat, calibbias and sampling_frequency written with echo, a calibration_data
 # round trip with dd, refusals before any bus traffic, and the bus cost of a
 # 35-parameter save and restore measured with the simulator's stats.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
@@ -44,18 +44,18 @@ for f in "$DEV"/* "$DEV"/scan_elements/* "$DEV"/buffer/*; do
 	n=$((n + 1))
 done
 ok "read $n attributes" [ "$n" -ge 40 ]
-is "warmstart mode 0600" "$(stat -c %a "$DEV/warmstart")" 600
+is "calibration_data mode 0600" "$(stat -c %a "$DEV/calibration_data")" 600
 
-is "calibration_status at power-on" "$(cat "$DEV/calibration_status")" 0
-is "calibration_score at power-on (raw 49152)" "$(cat "$DEV/calibration_score")" 50.000
-is "mag_transient 0" "$(cat "$DEV/mag_transient")" 0
+is "in_magn_calibration_auto_status at power-on" "$(cat "$DEV/in_magn_calibration_auto_status")" 0
+is "in_magn_calibration_score at power-on (raw 49152)" "$(cat "$DEV/in_magn_calibration_score")" 50.000
+is "in_magn_transient 0" "$(cat "$DEV/in_magn_transient")" 0
 knob mag_transient 2
-is "mag_transient 2 (bits 3:2)" "$(cat "$DEV/mag_transient")" 2
+is "in_magn_transient 2 (bits 3:2)" "$(cat "$DEV/in_magn_transient")" 2
 knob mag_transient 3
-is "mag_transient 3" "$(cat "$DEV/mag_transient")" 3
+is "in_magn_transient 3" "$(cat "$DEV/in_magn_transient")" 3
 knob mag_transient 0
-like "gyro_bias_update 0/1" "$(cat "$DEV/gyro_bias_update")" '^[01]$'
-like "mag_calibration_update 0/1" "$(cat "$DEV/mag_calibration_update")" '^[01]$'
+like "in_anglvel_calibration_update 0/1" "$(cat "$DEV/in_anglvel_calibration_update")" '^[01]$'
+like "in_magn_calibration_update 0/1" "$(cat "$DEV/in_magn_calibration_update")" '^[01]$'
 
 # The identity a saved warm start is checked against, read at probe.
 t=$(dbg_get stats transactions)
@@ -115,9 +115,9 @@ nok "calibbias 1.5 refused" sh -c "echo 1.5 > $DEV/in_accel_x_calibbias"
 nok "calibbias garbage refused" sh -c "echo abc > $DEV/in_accel_x_calibbias"
 ok "chip left running after calibbias" chip_idle
 
-# warmstart: save with dd, measured
+# calibration_data: save with dd, measured
 knob stats 0
-ok "dd warmstart out (save)" dd if="$DEV/warmstart" of="$TMP/a" bs=4096 status=none
+ok "dd calibration_data out (save)" dd if="$DEV/calibration_data" of="$TMP/a" bs=4096 status=none
 is "save: 140 bytes" "$(stat -c %s "$TMP/a")" 140
 save_t=$(dbg_get stats transactions)
 save_bus=$(dbg_get stats bus_time_us)
@@ -133,7 +133,7 @@ cp "$TMP/a" "$TMP/b"
 set_word "$TMP/b" 24 0x40000000
 set_word "$TMP/b" 1 0x3fc00000
 knob stats 0
-ok "dd warmstart in (restore)" dd if="$TMP/b" of="$DEV/warmstart" bs=140 status=none
+ok "dd calibration_data in (restore)" dd if="$TMP/b" of="$DEV/calibration_data" bs=140 status=none
 rest_t=$(dbg_get stats transactions)
 rest_bus=$(dbg_get stats bus_time_us)
 rest_el=$(dbg_get stats elapsed_us)
@@ -142,9 +142,9 @@ ok "restore: at most 2 transactions per parameter + 4 ($rest_t)" [ "$rest_t" -le
 is "restore: 35 requests served" "$(dbg_get stats params_served)" 35
 is "chip holds the written blob" "$(sim_ws_params)" "$(blob_words <"$TMP/b")"
 ok "chip left running after restore" chip_idle
-ok "dd warmstart out again" dd if="$DEV/warmstart" of="$TMP/c" bs=140 count=1 status=none
+ok "dd calibration_data out again" dd if="$DEV/calibration_data" of="$TMP/c" bs=140 count=1 status=none
 ok "round trip: read equals written" cmp "$TMP/b" "$TMP/c"
-ok "restore the original blob" dd if="$TMP/a" of="$DEV/warmstart" bs=140 status=none
+ok "restore the original blob" dd if="$TMP/a" of="$DEV/calibration_data" bs=140 status=none
 is "and the chip has it again" "$(sim_ws_params)" "$(blob_words <"$TMP/a")"
 
 # Refusals: nothing reaches the bus
@@ -154,36 +154,36 @@ refused() {
 	[ "$(dbg_get stats transactions)" = 0 ]
 }
 ok "read of 100 bytes refused, no bus traffic" \
-	refused dd if="$DEV/warmstart" of=/dev/null bs=100 count=1 status=none
+	refused dd if="$DEV/calibration_data" of=/dev/null bs=100 count=1 status=none
 ok "read at offset 4 refused" \
-	refused dd if="$DEV/warmstart" of=/dev/null bs=4 skip=1 count=1 status=none
+	refused dd if="$DEV/calibration_data" of=/dev/null bs=4 skip=1 count=1 status=none
 head -c 139 "$TMP/a" >"$TMP/short"
 ok "write of 139 bytes refused, no bus traffic" \
-	refused dd if="$TMP/short" of="$DEV/warmstart" bs=4096 status=none
+	refused dd if="$TMP/short" of="$DEV/calibration_data" bs=4096 status=none
 { cat "$TMP/a"; printf 'x'; } >"$TMP/long"
 ok "write of 141 bytes refused, no bus traffic" \
-	refused dd if="$TMP/long" of="$DEV/warmstart" bs=4096 status=none
+	refused dd if="$TMP/long" of="$DEV/calibration_data" bs=4096 status=none
 ok "write at offset 140 refused" \
-	refused dd if="$TMP/a" of="$DEV/warmstart" bs=140 seek=1 status=none
+	refused dd if="$TMP/a" of="$DEV/calibration_data" bs=140 seek=1 status=none
 for v in 0x7fc00000 0x7f800000 0xff800000 0xffffffff; do
 	cp "$TMP/a" "$TMP/bad"
 	set_word "$TMP/bad" 20 $v
 	ok "blob with $v refused, no bus traffic" \
-		refused dd if="$TMP/bad" of="$DEV/warmstart" bs=140 status=none
+		refused dd if="$TMP/bad" of="$DEV/calibration_data" bs=140 status=none
 done
 ok "chip unchanged by the refusals" test "$(sim_ws_params)" = "$(blob_words <"$TMP/a")"
 
 # Errors from the chip are passed up and transfer mode still ends
 knob ack_never 1
-out=$(dd if="$TMP/a" of="$DEV/warmstart" bs=140 2>&1)
+out=$(dd if="$TMP/a" of="$DEV/calibration_data" bs=140 2>&1)
 like "no acknowledge: timed out" "$out" "timed out"
 knob ack_never 0
 ok "chip left running after the timeout" chip_idle
 knob nack_at 3
-out=$(dd if="$DEV/warmstart" of=/dev/null bs=4096 2>&1)
+out=$(dd if="$DEV/calibration_data" of=/dev/null bs=4096 2>&1)
 like "NACK during save: I/O error" "$out" "(Input/output error|No such device)"
 ok "chip left running after the NACK" chip_idle
-ok "next save works" dd if="$DEV/warmstart" of=/dev/null bs=4096 status=none
+ok "next save works" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
 
 rm -rf "$TMP"
 done_testing

@@ -32,9 +32,10 @@ key=$(sentral-warmstart status --json | json_field key)
 f=$STATE/$key.ws
 
 # --- Attribute and node modes --------------------------------------------
-is "warmstart is 0600 root" "$(perm "$DEV/warmstart")" "600 root root"
-for a in calibration_status calibration_score mag_transient gyro_bias_update \
-	mag_calibration_update product_id revision_id rom_version ram_version; do
+is "calibration_data is 0600 root" "$(perm "$DEV/calibration_data")" "600 root root"
+for a in in_magn_calibration_auto_status in_magn_calibration_score in_magn_transient \
+	in_anglvel_calibration_update in_magn_calibration_update product_id revision_id \
+	rom_version ram_version; do
 	is "$a is 0444" "$(perm "$DEV/$a")" "444 root root"
 done
 for a in in_accel_x_calibbias in_accel_sampling_frequency \
@@ -61,9 +62,9 @@ is "none of them reached the chip" "$(dbg_get stats transactions)" 0
 
 # --- What an unprivileged user cannot do ---------------------------------
 knob stats 0
-nok "nobody cannot read warmstart" as_nobody dd if="$DEV/warmstart" of=/dev/null bs=4096 count=1
+nok "nobody cannot read calibration_data" as_nobody dd if="$DEV/calibration_data" of=/dev/null bs=4096 count=1
 head -c 140 /dev/zero >/tmp/zero.blob
-nok "nobody cannot write warmstart" as_nobody dd if=/tmp/zero.blob of="$DEV/warmstart" bs=140 count=1
+nok "nobody cannot write calibration_data" as_nobody dd if=/tmp/zero.blob of="$DEV/calibration_data" bs=140 count=1
 is "no parameter transferred" "$(served)" 0
 bias=$(cat "$DEV/in_accel_x_calibbias")
 freq=$(cat "$DEV/in_accel_sampling_frequency")
@@ -84,8 +85,8 @@ nok "nobody cannot unbind the driver" \
 ok "the driver is still bound" test -e "$DEV/name"
 
 # --- What an unprivileged user can do ------------------------------------
-ok "nobody can read calibration_status" as_nobody cat "$DEV/calibration_status"
-ok "nobody can read calibration_score" as_nobody cat "$DEV/calibration_score"
+ok "nobody can read in_magn_calibration_status" as_nobody cat "$DEV/in_magn_calibration_auto_status"
+ok "nobody can read in_magn_calibration_score" as_nobody cat "$DEV/in_magn_calibration_score"
 is "nobody can read the chip identity" "$(as_nobody cat "$DEV/product_id")" 0x80
 knob stats 0
 ok "nobody can read a raw sample" as_nobody cat "$DEV/in_accel_z_raw"
@@ -100,14 +101,14 @@ knob stats 0
 ok "nobody can read calibbias" as_nobody cat "$DEV/in_accel_x_calibbias"
 is "an unprivileged calibbias read transfers no parameter (fusion not paused)" \
 	"$(served)" 0
-# gyro_bias_update and mag_calibration_update clear when read, by anyone.
+# in_anglvel_calibration_update and in_magn_calibration_update clear when read, by anyone.
 # Latch an update, then stop further ones so none can arrive between reads.
 knob gbias_period_ms 100
 sleep 0.5
-cat "$DEV/calibration_status" "$SIM_DBG/state" >/dev/null
+cat "$DEV/in_magn_calibration_auto_status" "$SIM_DBG/state" >/dev/null
 knob gbias_period_ms 600000
-is "nobody reads a latched gyro_bias_update" "$(as_nobody cat "$DEV/gyro_bias_update")" 1
-is "and so consumes it: root reads 0" "$(cat "$DEV/gyro_bias_update")" 0
+is "nobody reads a latched in_anglvel_calibration_update" "$(as_nobody cat "$DEV/in_anglvel_calibration_update")" 1
+is "and so consumes it: root reads 0" "$(cat "$DEV/in_anglvel_calibration_update")" 0
 
 # --- State directory and files -------------------------------------------
 # Created 0700 / 0600 whatever the umask.
@@ -204,7 +205,7 @@ is "a symlink at the first temporary name: save takes another name (exit 0)" $? 
 is "the link target is untouched" "$(cat /tmp/victim)" precious
 ok "the planted link is left alone" test -L "$tmpname"
 tail -c +33 "$f" | head -c 140 >/tmp/saved.blob
-dd if="$DEV/warmstart" of=/tmp/chip.blob bs=4096 count=1 status=none
+dd if="$DEV/calibration_data" of=/tmp/chip.blob bs=4096 count=1 status=none
 ok "the state file holds the chip's blob" cmp /tmp/saved.blob /tmp/chip.blob
 rm -f "$tmpname"
 rm -f /tmp/victim
@@ -329,8 +330,8 @@ printf '\x00\x00\x80\x7f' | dd of=/tmp/inf.blob bs=1 seek=76 conv=notrunc status
 tail -c +33 /tmp/good.ws | head -c 140 >/tmp/nan.blob
 printf '\x01\x00\xc0\xff' | dd of=/tmp/nan.blob bs=1 seek=136 conv=notrunc status=none
 knob stats 0
-nok "root: a warmstart write with +Inf fails" dd if=/tmp/inf.blob of="$DEV/warmstart" bs=140 count=1
-nok "root: a warmstart write with a NaN fails" dd if=/tmp/nan.blob of="$DEV/warmstart" bs=140 count=1
+nok "root: a calibration_data write with +Inf fails" dd if=/tmp/inf.blob of="$DEV/calibration_data" bs=140 count=1
+nok "root: a calibration_data write with a NaN fails" dd if=/tmp/nan.blob of="$DEV/calibration_data" bs=140 count=1
 is "and no bus transaction happened" "$(dbg_get stats transactions)" 0
 # What a forged but well-formed file can do: any finite parameters 1..35,
 # nothing else.
@@ -354,9 +355,9 @@ is "calibbias follows" "$(cat "$DEV/in_accel_x_calibbias")" 0
 # Never acknowledges: each access ends within about 1 s, chip running.
 knob ack_never 1
 t0=$(date +%s%N)
-out=$(dd if="$DEV/warmstart" of=/dev/null bs=4096 count=1 2>&1)
+out=$(dd if="$DEV/calibration_data" of=/dev/null bs=4096 count=1 2>&1)
 ms=$((($(date +%s%N) - t0) / 1000000))
-like "warmstart read with a chip that never acknowledges: ETIMEDOUT" "$out" \
+like "calibration_data read with a chip that never acknowledges: ETIMEDOUT" "$out" \
 	"Connection timed out"
 ok "within 3 s ($ms ms)" test "$ms" -lt 3000
 is "transfer mode ended" "$(dbg_get state transfer)" 0
@@ -369,7 +370,7 @@ ok "within 3 s ($ms ms)" test "$ms" -lt 3000
 knob ack_never 0
 # NACKs: an error, never a hang.
 knob nack_at 1
-nok "warmstart read with a NACK fails" dd if="$DEV/warmstart" of=/dev/null bs=4096 count=1
+nok "calibration_data read with a NACK fails" dd if="$DEV/calibration_data" of=/dev/null bs=4096 count=1
 is "transfer mode ended" "$(dbg_get state transfer)" 0
 # A chip that hands out a NaN: the driver passes it to root only, the tool
 # refuses to save it.
@@ -380,7 +381,7 @@ i2ctransfer -f -y "$bus" w2@0x28 0x64 0x00
 i2ctransfer -f -y "$bus" w2@0x28 0x54 0x00
 is "the chip now holds a NaN in parameter 20" "$(sim_param 20)" 0x7fc00000
 is "the driver hands it to root as it is" \
-	"$(dd if="$DEV/warmstart" bs=4096 count=1 status=none | blob_words | awk '{ print $20 }')" \
+	"$(dd if="$DEV/calibration_data" bs=4096 count=1 status=none | blob_words | awk '{ print $20 }')" \
 	0x7fc00000
 out=$(sentral-warmstart save --force --file /tmp/nan.ws 2>&1)
 is "save of a NaN read from the chip: exit 5" $? 5

@@ -85,10 +85,10 @@ is "power cycle lost the calibration" "$(cal_status)" 0
 out=$(sentral-warmstart restore 2>&1)
 is "restore exits 0" $? 0
 like "restore reports status 3" "$out" "restored .* status 3"
-is "calibration_status 3 without motion" "$(cal_status)" 3
+is "in_magn_calibration_auto_status 3 without motion" "$(cal_status)" 3
 is "chip parameters 1..35 equal the saved payload" "$(sim_ws_params)" "$payload"
 is "chip blob via sysfs equals the saved payload" \
-	"$(blob_words <"$DEV/warmstart")" "$payload"
+	"$(blob_words <"$DEV/calibration_data")" "$payload"
 is "transfer mode ended" "$(dbg_get state transfer)" 0
 is "algorithm running" "$(dbg_get state running)" 1
 

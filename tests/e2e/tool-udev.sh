@@ -34,7 +34,7 @@ payload=$(file_payload_words "$f")
 
 ok "replug (power cycle + bind): udev restores at probe" replug "$client"
 udevadm settle --timeout=10
-is "calibration_status 3 without motion" "$(cal_status)" 3
+is "in_magn_calibration_auto_status 3 without motion" "$(cal_status)" 3
 is "chip parameters 1..35 equal the saved payload" "$(sim_ws_params)" "$payload"
 like "the kernel log tells it" "$(dmesg)" \
 	"sentral-warmstart\[[0-9]+\]: restored iio:device[0-9]+ calibration from $f"

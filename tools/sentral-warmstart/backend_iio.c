@@ -5,7 +5,7 @@
  * libiio finds the device; every attribute is then read and written with
  * plain open/read/write on sysfs, because libiio 0.24's local backend
  * overwrites the last byte of what it reads (it assumes a trailing
- * newline), which would corrupt the 140-byte binary warmstart attribute.
+ * newline), which would corrupt the 140-byte binary calibration_data attribute.
  */
 #include <errno.h>
 #include <fcntl.h>
@@ -188,21 +188,22 @@ static int iio_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 	double pct;
 	int ret;
 
-	ret = attr_read_int(ib, "calibration_status", &cs->status, e);
-	ret = ret ? ret : attr_read_int(ib, "mag_transient",
+	ret = attr_read_int(ib, "in_magn_calibration_auto_status", &cs->status,
+			    e);
+	ret = ret ? ret : attr_read_int(ib, "in_magn_transient",
 					&cs->mag_transient, e);
-	ret = ret ? ret : attr_read_int(ib, "gyro_bias_update",
+	ret = ret ? ret : attr_read_int(ib, "in_anglvel_calibration_update",
 					&cs->gyro_bias_update, e);
-	ret = ret ? ret : attr_read_int(ib, "mag_calibration_update",
+	ret = ret ? ret : attr_read_int(ib, "in_magn_calibration_update",
 					&cs->mag_cal_update, e);
-	ret = ret ? ret : attr_read(ib, "calibration_score", buf,
+	ret = ret ? ret : attr_read(ib, "in_magn_calibration_score", buf,
 				    sizeof(buf), e);
 	if (ret)
 		return ret;
 	pct = strtod(buf, &end);
 	if (end == buf || *end)
 		return sw_err_set(e, SW_EXIT_IO,
-				  "%s: calibration_score: unexpected value \"%s\"",
+				  "%s: in_magn_calibration_score: unexpected value \"%s\"",
 				  b->name, buf);
 	/* 3 decimals resolve the 100/32768 % steps: the raw value is exact. */
 	cs->score_raw = sw_score_raw(pct);
@@ -220,19 +221,19 @@ static int blob_err(struct iio_be *ib, const char *op, int err,
 		hint = " (the chip did not acknowledge a parameter)";
 	else if (err == EINVAL)
 		hint = " (the driver refused the blob)";
-	return sw_err_set(e, SW_EXIT_IO, "%s: %s warmstart: %s%s", ib->b.name,
-			  op, strerror(err), hint);
+	return sw_err_set(e, SW_EXIT_IO, "%s: %s calibration_data: %s%s",
+			  ib->b.name, op, strerror(err), hint);
 }
 
 static int iio_read_blob(struct sw_backend *b, uint8_t *blob,
 			 struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
-	char path[PATH_MAX + 16];
+	char path[PATH_MAX + 24];
 	ssize_t n;
 	int fd, err;
 
-	snprintf(path, sizeof(path), "%s/warmstart", ib->dir);
+	snprintf(path, sizeof(path), "%s/calibration_data", ib->dir);
 	fd = open(path, O_RDONLY | O_CLOEXEC);
 	if (fd < 0)
 		return blob_err(ib, "opening", errno, e);
@@ -249,11 +250,11 @@ static int iio_write_blob(struct sw_backend *b, const uint8_t *blob,
 			  struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
-	char path[PATH_MAX + 16];
+	char path[PATH_MAX + 24];
 	ssize_t n;
 	int fd, err;
 
-	snprintf(path, sizeof(path), "%s/warmstart", ib->dir);
+	snprintf(path, sizeof(path), "%s/calibration_data", ib->dir);
 	fd = open(path, O_WRONLY | O_CLOEXEC);
 	if (fd < 0)
 		return blob_err(ib, "opening", errno, e);

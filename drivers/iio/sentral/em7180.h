@@ -206,6 +206,6 @@ int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 			   bool write);
 int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 			     loff_t off, size_t count);
-int em7180_format_score(char *buf, size_t size, u16 raw);
+int em7180_score_milli(u16 raw);
 
 #endif /* _EM7180_H_ */

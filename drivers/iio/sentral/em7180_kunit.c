@@ -3,7 +3,7 @@
  * KUnit tests for the EM7180 driver: parameter transfer against an emulated
  * register map on a custom regmap bus (exact bus sequences, batches,
  * acknowledge latency, timeouts, bus errors), float conversions, the
- * calibration score format, warm start blob validation and the warmstart
+ * calibration score, warm start blob validation and the calibration_data
  * attribute's write path fed with random blobs, sizes and offsets.
  */
 
@@ -517,22 +517,21 @@ static void em7180_test_score(struct kunit *test)
 {
 	static const struct {
 		u16 raw;
-		const char *text;
+		int milli;
 	} cases[] = {
-		{ 0x0000, "-100.000\n" },
-		{ 0x8000, "0.000\n" },
-		{ 0xFFFF, "99.997\n" },
-		{ 0x83BC, "2.917\n" },
-		{ 0x7FFF, "-0.003\n" },
-		{ 0x8001, "0.003\n" },
+		{ 0x0000, -100000 },
+		{ 0x8000, 0 },
+		{ 0xFFFF, 99997 },
+		{ 0x83BC, 2917 },
+		{ 0x7FFF, -3 },
+		{ 0x8001, 3 },
+		{ 0xBFFF, 49997 },	/* 49.99695: rounded up */
 	};
 	unsigned int i;
-	char buf[16];
 
-	for (i = 0; i < ARRAY_SIZE(cases); i++) {
-		em7180_format_score(buf, sizeof(buf), cases[i].raw);
-		KUNIT_EXPECT_STREQ(test, buf, cases[i].text);
-	}
+	for (i = 0; i < ARRAY_SIZE(cases); i++)
+		KUNIT_EXPECT_EQ_MSG(test, em7180_score_milli(cases[i].raw),
+				    cases[i].milli, "raw 0x%04x", cases[i].raw);
 }
 
 static void em7180_test_warmstart_check(struct kunit *test)

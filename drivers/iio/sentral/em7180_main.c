@@ -543,8 +543,9 @@ static int em7180_read_reg(struct em7180_data *data, unsigned int reg,
 	return ret;
 }
 
-static ssize_t calibration_status_show(struct device *dev,
-				       struct device_attribute *attr, char *buf)
+static ssize_t in_magn_calibration_auto_status_show(struct device *dev,
+						    struct device_attribute *attr,
+						    char *buf)
 {
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
 	unsigned int val;
@@ -557,8 +558,8 @@ static ssize_t calibration_status_show(struct device *dev,
 	return sysfs_emit(buf, "%lu\n", FIELD_GET(EM7180_CAL_STATUS_MASK, val));
 }
 
-static ssize_t mag_transient_show(struct device *dev,
-				  struct device_attribute *attr, char *buf)
+static ssize_t in_magn_transient_show(struct device *dev,
+				      struct device_attribute *attr, char *buf)
 {
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
 	unsigned int val;
@@ -599,45 +600,43 @@ static ssize_t em7180_cal_flag_show(struct device *dev, char *buf,
 	return sysfs_emit(buf, "%d\n", set);
 }
 
-static ssize_t gyro_bias_update_show(struct device *dev,
-				     struct device_attribute *attr, char *buf)
+static ssize_t in_anglvel_calibration_update_show(struct device *dev,
+						  struct device_attribute *attr,
+						  char *buf)
 {
 	return em7180_cal_flag_show(dev, buf, EM7180_CAL_FLAG_GBIAS_UPDATE);
 }
 
-static ssize_t mag_calibration_update_show(struct device *dev,
-					   struct device_attribute *attr,
-					   char *buf)
+static ssize_t in_magn_calibration_update_show(struct device *dev,
+					       struct device_attribute *attr,
+					       char *buf)
 {
 	return em7180_cal_flag_show(dev, buf, EM7180_CAL_FLAG_MAG_UPDATE);
 }
 
 /**
- * em7180_format_score() - format the calibration score register
- * @buf: destination
- * @size: size of @buf
+ * em7180_score_milli() - the calibration score in thousandths of a percent
  * @raw: CalScore register pair (0x4D | 0x4E << 8)
  *
- * The application note defines the score as (raw - 32768) / 32768 * 100;
- * it is printed with three decimals, rounded to nearest with integer math.
+ * The application note defines the score as (raw - 32768) / 32768 * 100
+ * percent; the result is rounded to nearest with integer math.
  *
- * Return: the number of characters written, as scnprintf().
+ * Return: the score in 0.001 %, -100000 to 99997.
  */
-int em7180_format_score(char *buf, size_t size, u16 raw)
+int em7180_score_milli(u16 raw)
 {
 	/* 100000 / 32768 = 3125 / 1024; |product| < 2^27 */
-	int milli = DIV_ROUND_CLOSEST(((int)raw - 32768) * 3125, 1024);
-
-	return scnprintf(buf, size, "%s%d.%03d\n", milli < 0 ? "-" : "",
-			 abs(milli) / 1000, abs(milli) % 1000);
+	return DIV_ROUND_CLOSEST(((int)raw - 32768) * 3125, 1024);
 }
-EXPORT_SYMBOL_IF_KUNIT(em7180_format_score);
+EXPORT_SYMBOL_IF_KUNIT(em7180_score_milli);
 
-static ssize_t calibration_score_show(struct device *dev,
-				      struct device_attribute *attr, char *buf)
+static ssize_t in_magn_calibration_score_show(struct device *dev,
+					      struct device_attribute *attr,
+					      char *buf)
 {
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
 	__le16 raw;
+	int milli;
 	int ret;
 
 	mutex_lock(&data->lock);
@@ -647,7 +646,9 @@ static ssize_t calibration_score_show(struct device *dev,
 	if (ret)
 		return ret;
 
-	return em7180_format_score(buf, PAGE_SIZE, le16_to_cpu(raw));
+	milli = em7180_score_milli(le16_to_cpu(raw));
+	return sysfs_emit(buf, "%s%d.%03d\n", milli < 0 ? "-" : "",
+			  abs(milli) / 1000, abs(milli) % 1000);
 }
 
 enum em7180_id_attr {
@@ -690,11 +691,11 @@ static ssize_t em7180_id_show(struct device *dev,
 	return sysfs_emit(buf, "0x%0*x\n", width, val);
 }
 
-static IIO_DEVICE_ATTR_RO(calibration_status, 0);
-static IIO_DEVICE_ATTR_RO(calibration_score, 0);
-static IIO_DEVICE_ATTR_RO(mag_transient, 0);
-static IIO_DEVICE_ATTR_RO(gyro_bias_update, 0);
-static IIO_DEVICE_ATTR_RO(mag_calibration_update, 0);
+static IIO_DEVICE_ATTR_RO(in_magn_calibration_auto_status, 0);
+static IIO_DEVICE_ATTR_RO(in_magn_calibration_score, 0);
+static IIO_DEVICE_ATTR_RO(in_magn_transient, 0);
+static IIO_DEVICE_ATTR_RO(in_anglvel_calibration_update, 0);
+static IIO_DEVICE_ATTR_RO(in_magn_calibration_update, 0);
 static IIO_DEVICE_ATTR(product_id, 0444, em7180_id_show, NULL,
 		       EM7180_ID_PRODUCT);
 static IIO_DEVICE_ATTR(revision_id, 0444, em7180_id_show, NULL,
@@ -705,7 +706,7 @@ static IIO_DEVICE_ATTR(ram_version, 0444, em7180_id_show, NULL,
 		       EM7180_ID_RAM);
 
 /**
- * em7180_warmstart_check() - validate a warmstart attribute access
+ * em7180_warmstart_check() - validate a calibration_data attribute access
  * @buf: the blob, for a write
  * @off: file offset of the access
  * @count: size of the access
@@ -737,9 +738,9 @@ int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_check);
 
-static ssize_t warmstart_read(struct file *filp, struct kobject *kobj,
-			      struct bin_attribute *attr, char *buf,
-			      loff_t off, size_t count)
+static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
+				     struct bin_attribute *attr, char *buf,
+				     loff_t off, size_t count)
 {
 	struct iio_dev *indio_dev = dev_to_iio_dev(kobj_to_dev(kobj));
 	struct em7180_data *data = iio_priv(indio_dev);
@@ -784,7 +785,7 @@ static ssize_t warmstart_read(struct file *filp, struct kobject *kobj,
  * @off: file offset of the write
  * @count: size of the write
  *
- * The write path of the warmstart attribute. Anything but 35 finite floats
+ * The write path of the calibration_data attribute. Anything but 35 finite floats
  * at offset 0 is refused before the chip is touched.
  *
  * Return: 0, -EINVAL for a bad blob, size or offset, -EBUSY while a buffer
@@ -828,9 +829,9 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_restore);
 
-static ssize_t warmstart_write(struct file *filp, struct kobject *kobj,
-			       struct bin_attribute *attr, char *buf,
-			       loff_t off, size_t count)
+static ssize_t calibration_data_write(struct file *filp, struct kobject *kobj,
+				      struct bin_attribute *attr, char *buf,
+				      loff_t off, size_t count)
 {
 	return em7180_warmstart_restore(dev_to_iio_dev(kobj_to_dev(kobj)),
 					buf, off, count) ?: count;
@@ -841,14 +842,14 @@ static ssize_t warmstart_write(struct file *filp, struct kobject *kobj,
  * with a size it would silently cut a longer write down to a valid-looking
  * 140 bytes.
  */
-static BIN_ATTR_ADMIN_RW(warmstart, 0);
+static BIN_ATTR_ADMIN_RW(calibration_data, 0);
 
 static struct attribute *em7180_attrs[] = {
-	&iio_dev_attr_calibration_status.dev_attr.attr,
-	&iio_dev_attr_calibration_score.dev_attr.attr,
-	&iio_dev_attr_mag_transient.dev_attr.attr,
-	&iio_dev_attr_gyro_bias_update.dev_attr.attr,
-	&iio_dev_attr_mag_calibration_update.dev_attr.attr,
+	&iio_dev_attr_in_magn_calibration_auto_status.dev_attr.attr,
+	&iio_dev_attr_in_magn_calibration_score.dev_attr.attr,
+	&iio_dev_attr_in_magn_transient.dev_attr.attr,
+	&iio_dev_attr_in_anglvel_calibration_update.dev_attr.attr,
+	&iio_dev_attr_in_magn_calibration_update.dev_attr.attr,
 	&iio_dev_attr_product_id.dev_attr.attr,
 	&iio_dev_attr_revision_id.dev_attr.attr,
 	&iio_dev_attr_rom_version.dev_attr.attr,
@@ -857,7 +858,7 @@ static struct attribute *em7180_attrs[] = {
 };
 
 static struct bin_attribute *em7180_bin_attrs[] = {
-	&bin_attr_warmstart,
+	&bin_attr_calibration_data,
 	NULL
 };
 
@@ -1108,17 +1109,22 @@ static int em7180_trigger_probe(struct iio_dev *indio_dev, int irq)
 /*
  * After power-on or a reset the chip uploads its firmware from EEPROM; a
  * chip found stuck is reset once (EM7180 register reference §3 and §5).
+ * Reports nothing itself: probe and resume word the failure each their own
+ * way, from the last SentralStatus left in @status.
+ *
+ * Return: 0, -ENODEV without a firmware EEPROM, -EIO for a failed upload,
+ * or the bus error.
  */
-static int em7180_wait_firmware(struct em7180_data *data)
+static int em7180_wait_firmware(struct em7180_data *data,
+				unsigned int *status)
 {
-	unsigned int status;
 	int ret, tries;
 
 	for (tries = 0; tries < 2; tries++) {
 		if (tries) {
 			dev_warn(data->dev,
 				 "firmware upload not done (status 0x%02x), resetting\n",
-				 status);
+				 *status);
 			ret = regmap_write(data->regmap, EM7180_REG_RESET_REQ,
 					   EM7180_RESET_REQ_RESET);
 			if (ret)
@@ -1126,27 +1132,20 @@ static int em7180_wait_firmware(struct em7180_data *data)
 		}
 
 		ret = regmap_read_poll_timeout(data->regmap,
-					       EM7180_REG_SENTRAL_STATUS, status,
-					       status & (EM7180_SENTRAL_UPLOAD_DONE |
-							 EM7180_SENTRAL_UPLOAD_ERR |
-							 EM7180_SENTRAL_NO_EEPROM),
+					       EM7180_REG_SENTRAL_STATUS, *status,
+					       *status & (EM7180_SENTRAL_UPLOAD_DONE |
+							  EM7180_SENTRAL_UPLOAD_ERR |
+							  EM7180_SENTRAL_NO_EEPROM),
 					       EM7180_UPLOAD_POLL_US,
 					       EM7180_UPLOAD_TIMEOUT_US);
 		if (ret && ret != -ETIMEDOUT)
 			return ret;
-		if (!ret && (status & EM7180_SENTRAL_UPLOAD_DONE) &&
-		    !(status & EM7180_SENTRAL_UPLOAD_ERR))
+		if (!ret && (*status & EM7180_SENTRAL_UPLOAD_DONE) &&
+		    !(*status & EM7180_SENTRAL_UPLOAD_ERR))
 			return 0;
 	}
 
-	if (status & EM7180_SENTRAL_NO_EEPROM)
-		return dev_err_probe(data->dev, -ENODEV,
-				     "no firmware EEPROM (status 0x%02x); host upload is not supported\n",
-				     status);
-
-	return dev_err_probe(data->dev, -EIO,
-			     "firmware upload failed (SentralStatus 0x%02x)\n",
-			     status);
+	return *status & EM7180_SENTRAL_NO_EEPROM ? -ENODEV : -EIO;
 }
 
 /*
@@ -1197,6 +1196,11 @@ static void em7180_standby_action(void *arg)
 	mutex_unlock(&data->lock);
 }
 
+/*
+ * Another ProductID or RevisionID may be a compatible part the driver was
+ * not tested with: say so and go on, as bno055 does. Userspace compares
+ * the identity before restoring a saved calibration.
+ */
 static int em7180_check_id(struct em7180_data *data)
 {
 	u8 id[2];
@@ -1208,10 +1212,9 @@ static int em7180_check_id(struct em7180_data *data)
 		return dev_err_probe(data->dev, ret, "failed to read chip ID\n");
 
 	if (id[0] != EM7180_PRODUCT_ID || id[1] != EM7180_REVISION_ID)
-		return dev_err_probe(data->dev, -ENODEV,
-				     "ProductID 0x%02x RevisionID 0x%02x, expected 0x%02x 0x%02x\n",
-				     id[0], id[1], EM7180_PRODUCT_ID,
-				     EM7180_REVISION_ID);
+		dev_warn(data->dev,
+			 "unexpected ProductID 0x%02x RevisionID 0x%02x (expected 0x%02x 0x%02x)\n",
+			 id[0], id[1], EM7180_PRODUCT_ID, EM7180_REVISION_ID);
 
 	data->product_id = id[0];
 	data->revision_id = id[1];
@@ -1247,6 +1250,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	static const char * const regulators[] = { "vdd", "vddio" };
 	struct em7180_data *data;
 	struct iio_dev *indio_dev;
+	unsigned int status = 0;
 	int ret;
 
 	indio_dev = devm_iio_device_alloc(dev, sizeof(*data));
@@ -1273,9 +1277,11 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
-	ret = em7180_wait_firmware(data);
+	ret = em7180_wait_firmware(data, &status);
 	if (ret)
-		return ret;
+		return dev_err_probe(dev, ret,
+				     "firmware not ready (SentralStatus 0x%02x)\n",
+				     status);
 
 	ret = em7180_read_versions(data);
 	if (ret)
@@ -1345,7 +1351,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_chip_suspend);
 static int em7180_chip_restore(struct em7180_data *data, bool *lost)
 {
 	u32 vals[EM7180_WS_NUM_PARAMS];
-	unsigned int status, i;
+	unsigned int status = 0, i;
 	int ret;
 
 	ret = regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, &status);
@@ -1360,9 +1366,13 @@ static int em7180_chip_restore(struct em7180_data *data, bool *lost)
 	*lost = true;
 	data->accel_offset_valid = false;
 
-	ret = em7180_wait_firmware(data);
-	if (ret)
+	ret = em7180_wait_firmware(data, &status);
+	if (ret) {
+		dev_err(data->dev,
+			"firmware not ready after a power loss (SentralStatus 0x%02x): %d\n",
+			status, ret);
 		return ret;
+	}
 
 	/* The firmware was uploaded again, maybe a different one */
 	ret = em7180_read_versions(data);

@@ -40,15 +40,15 @@ json_field() {
 }
 
 cal_status() {
-	cat "$(em7180_dir)/calibration_status"
+	cat "$(em7180_dir)/in_magn_calibration_auto_status"
 }
 
 # Complete with a score of 3% or better.
 calibrated_good() {
 	local d
 	d=$(em7180_dir) || return 1
-	[ "$(cat "$d/calibration_status")" = 3 ] &&
-		awk '{ exit !($1 <= 3.0) }' "$d/calibration_score"
+	[ "$(cat "$d/in_magn_calibration_auto_status")" = 3 ] &&
+		awk '{ exit !($1 <= 3.0) }' "$d/in_magn_calibration_score"
 }
 
 # Simulated figure-8 motion until calibrated, then still again.
