@@ -15,6 +15,8 @@
 #include <linux/spinlock.h>
 #include <linux/types.h>
 
+#include "sim-motion.h"
+
 #define SIM_I2C_ADDR		0x28
 
 /* Register addresses, EM7180 register reference §1 */
@@ -141,12 +143,13 @@ struct sentral_sim {
 
 	/* Algorithm clock: running time split into motion and still time */
 	ktime_t last_advance;
-	u64 motion_ns;
 	u64 cal_ns;
 	unsigned int cal_step;
 	u64 still_ns;
 	s32 coeff[SIM_NCOEFFS];		/* model's mcoeffs, micro-units */
 	s32 coeff_from[SIM_NCOEFFS];	/* where the current convergence began */
+	/* field directions seen since calibration (re)started */
+	DECLARE_BITMAP(cal_seen, SIM_REGIONS);
 	u8 cal_flags;			/* latched 0x44 bits */
 	u8 event_status;
 	u32 noise_state;
@@ -170,8 +173,10 @@ struct sentral_sim {
 	u32 nack_at;
 	u32 nack_count;
 
+	/* The world: orientation and motion (survives resets) */
+	struct sim_motion world;
+
 	/* Knobs */
-	bool motion;
 	u32 cal_duration_ms;
 	u32 gbias_period_ms;
 	u8 mag_transient;
@@ -221,7 +226,6 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek);
 void sim_reg_write(struct sentral_sim *sim, u8 reg, u8 val, ktime_t now);
 void sim_schedule(struct sentral_sim *sim, ktime_t now);
 bool sim_int_update(struct sentral_sim *sim);
-void sim_set_motion(struct sentral_sim *sim, bool motion, ktime_t now);
 u8 sim_cal_status(struct sentral_sim *sim);
 u16 sim_cal_score_raw(struct sentral_sim *sim);
 bool sim_in_upload(struct sentral_sim *sim, ktime_t now);

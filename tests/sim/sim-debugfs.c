@@ -3,6 +3,7 @@
  * debugfs knobs of the simulated EM7180, under sentral-sim/. Every file is
  * described in tests/sim/README.md.
  */
+#include <linux/bitmap.h>
 #include <linux/debugfs.h>
 #include <linux/fs.h>
 #include <linux/kernel.h>
@@ -65,17 +66,127 @@ static int sim_parse_period_ms(const char *buf, u32 *val)
 static void motion_show(struct seq_file *m, struct sentral_sim *sim,
 			ktime_t now)
 {
-	seq_printf(m, "%d\n", sim->motion);
+	seq_printf(m, "%d\n", sim->world.pattern != SIM_PAT_STILL);
 }
 
+/* The shortcut: 1 starts the sphere pattern, 0 puts the device down level */
 static int motion_store(struct sentral_sim *sim, char *buf, ktime_t now)
 {
+	static const s64 level[4] = { 1, 0, 0, 0 };
 	bool v;
 	int ret = kstrtobool(buf, &v);
 
-	if (!ret)
-		sim_set_motion(sim, v, now);
+	if (ret)
+		return ret;
+	if (!v)
+		sim_motion_set_orientation(&sim->world, level, now);
+	else if (sim->world.pattern == SIM_PAT_STILL)
+		ret = sim_motion_set_pattern(&sim->world, SIM_PAT_SPHERE, now);
 	return ret;
+}
+
+static void pattern_show(struct seq_file *m, struct sentral_sim *sim,
+			 ktime_t now)
+{
+	seq_printf(m, "%s\n", sim_pattern_name(sim->world.pattern));
+}
+
+static int pattern_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	int p;
+
+	for (p = 0; p < SIM_NPATTERNS; p++)
+		if (!strcmp(buf, sim_pattern_name(p)))
+			return sim_motion_set_pattern(&sim->world, p, now);
+	return -EINVAL;
+}
+
+static void path_show(struct seq_file *m, struct sentral_sim *sim,
+		      ktime_t now)
+{
+	unsigned int i;
+
+	for (i = 0; i < sim->world.nseg; i++) {
+		const struct sim_segment *sg = &sim->world.seg[i];
+
+		seq_printf(m, "%d %d %d %d %u\n", sg->in[0], sg->in[1],
+			   sg->in[2], sg->rate_dps, sg->ms);
+	}
+}
+
+/* Parse n whitespace-separated integers; nothing may follow */
+static int sim_parse_ints(char *buf, s64 *v, int n, s64 max)
+{
+	char *tok;
+	int i;
+
+	for (i = 0; i < n; i++) {
+		tok = strsep(&buf, " \t");
+		while (tok && !*tok)
+			tok = strsep(&buf, " \t");
+		if (!tok || kstrtos64(tok, 0, &v[i]) || abs(v[i]) > max)
+			return -EINVAL;
+	}
+	if (buf && *skip_spaces(buf))
+		return -EINVAL;
+	return 0;
+}
+
+/* "clear", or a segment "AX AY AZ DPS MS" appended to the path */
+static int path_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	s32 axis[3];
+	s64 v[5];
+	int i, ret;
+
+	if (!strcmp(buf, "clear"))
+		return sim_motion_clear_path(&sim->world);
+	ret = sim_parse_ints(buf, v, 5, SIM_MAX_MS);
+	if (ret)
+		return ret;
+	for (i = 0; i < 3; i++)
+		axis[i] = v[i];
+	return sim_motion_add_segment(&sim->world, axis, v[3], v[4]);
+}
+
+/* w x y z in millionths */
+static void orientation_show(struct seq_file *m, struct sentral_sim *sim,
+			     ktime_t now)
+{
+	const s32 *q = sim->world.q;
+	s64 v[4];
+	int i;
+
+	for (i = 0; i < 4; i++)
+		v[i] = DIV_ROUND_CLOSEST_ULL(abs((s64)q[i]) * 1000000, SIM_Q30) *
+		       (q[i] < 0 ? -1 : 1);
+	seq_printf(m, "%lld %lld %lld %lld\n", v[0], v[1], v[2], v[3]);
+}
+
+static int orientation_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	s64 q[4];
+	int ret = sim_parse_ints(buf, q, 4, SIM_Q30);
+
+	if (ret)
+		return ret;
+	if (!q[0] && !q[1] && !q[2] && !q[3])
+		return -EINVAL;
+	sim_motion_set_orientation(&sim->world, q, now);
+	return 0;
+}
+
+static void coverage_show(struct seq_file *m, struct sentral_sim *sim,
+			  ktime_t now)
+{
+	int i;
+
+	seq_printf(m, "regions %d\n", SIM_REGIONS);
+	seq_printf(m, "seen %u\n", bitmap_weight(sim->cal_seen, SIM_REGIONS));
+	seq_puts(m, "map ");
+	for (i = 0; i < SIM_REGIONS; i++)
+		seq_putc(m, test_bit(i, sim->cal_seen) ? '1' : '0');
+	seq_putc(m, '\n');
 }
 
 static void cal_duration_show(struct seq_file *m, struct sentral_sim *sim,
@@ -318,6 +429,10 @@ static void state_show(struct seq_file *m, struct sentral_sim *sim,
 
 static const struct sim_knob sim_knobs[] = {
 	{ "motion", 0600, motion_show, motion_store },
+	{ "pattern", 0600, pattern_show, pattern_store },
+	{ "path", 0600, path_show, path_store },
+	{ "orientation", 0600, orientation_show, orientation_store },
+	{ "coverage", 0400, coverage_show, NULL },
 	{ "cal_duration_ms", 0600, cal_duration_show, cal_duration_store },
 	{ "gbias_period_ms", 0600, gbias_period_show, gbias_period_store },
 	{ "mag_transient", 0600, mag_transient_show, mag_transient_store },

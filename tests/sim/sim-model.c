@@ -9,8 +9,8 @@
  *
  * Every function here runs with sim->lock held.
  */
+#include <linux/bitmap.h>
 #include <linux/bug.h>
-#include <linux/fixp-arith.h>
 #include <linux/kernel.h>
 #include <linux/math64.h>
 #include <linux/minmax.h>
@@ -54,16 +54,14 @@
 
 /* Calibration converges in this many coefficient updates */
 #define SIM_CAL_STEPS		10
+/* Regions of field directions seen for a complete calibration */
+#define SIM_COVER_FULL		70
 /* Score (percent * 1000) of the true coefficients and of the defaults */
 #define SIM_SCORE_FLOOR_MILLI	2700
 #define SIM_SCORE_SPAN_MILLI	47300
 #define SIM_SCORE_MAX_MILLI	99700
 /* gain errors are weighted as if multiplied by a 50 uT field */
 #define SIM_GAIN_WEIGHT		50
-
-/* Motion is a yaw spin about the NED down axis at 90 dps */
-#define SIM_SPIN_CDEG_PER_S	9000
-#define SIM_SPIN_LSB		590	/* round(90 * 32768 / 5000) */
 
 static const u32 sim_param_defaults[SIM_NPARAMS] = {
 	[3] = 0x3f800000,		/* gbias_mode 1, "uint8 saved as float" */
@@ -88,10 +86,7 @@ static const s32 sim_coeff_true[SIM_NCOEFFS] = {
 	900000, 1080000, 950000, 25000000, -12500000, 40000000,
 };
 
-/* Earth field in NED, pT: 20 uT north, 45 uT down */
-static const s64 sim_field_ned[3] = { 20000000, 0, 45000000 };
-
-static const s32 sim_gravity[3] = { 0, 0, 2048 };	/* device flat, NED */
+static const s64 sim_gravity[3] = { 0, 0, 2048 };	/* NED, accel LSB */
 static const s32 sim_gyro_true_bias[3] = { 12, -7, 5 };	/* LSB */
 
 static const u8 sim_stream_base[SIM_NSTREAMS] = {
@@ -180,17 +175,25 @@ static void sim_coeff_restored(struct sentral_sim *sim, unsigned int idx)
 	memcpy(sim->coeff_from, sim->coeff, sizeof(sim->coeff));
 	sim->cal_ns = 0;
 	sim->cal_step = 0;
+	bitmap_zero(sim->cal_seen, SIM_REGIONS);
 }
 
+/*
+ * Convergence is limited by both the time spent moving and the field
+ * directions seen: step k of 10 needs k/10 of cal_duration_ms and k/10
+ * of SIM_COVER_FULL regions.
+ */
 static void sim_cal_progress(struct sentral_sim *sim)
 {
 	u64 dur = (u64)sim->cal_duration_ms * NSEC_PER_MSEC;
+	unsigned int seen = bitmap_weight(sim->cal_seen, SIM_REGIONS);
 	bool changed = false;
 	unsigned int k;
 	int i;
 
 	k = sim->cal_ns >= dur ? SIM_CAL_STEPS :
 		div64_u64(sim->cal_ns * SIM_CAL_STEPS, dur);
+	k = min(k, min(seen * SIM_CAL_STEPS / SIM_COVER_FULL, SIM_CAL_STEPS));
 	if (k <= sim->cal_step)
 		return;
 	sim->cal_step = k;
@@ -261,18 +264,23 @@ static void sim_param_poll(struct sentral_sim *sim, ktime_t now)
 void sim_advance(struct sentral_sim *sim, ktime_t now)
 {
 	s64 delta = ktime_to_ns(ktime_sub(now, sim->last_advance));
-	u64 period;
+	bool running;
+	u64 period, moving;
 
 	sim_param_poll(sim, now);
 	if (delta <= 0)
 		return;
 	sim->last_advance = now;
-	if (!sim_algo_running(sim, now))
+	running = sim_algo_running(sim, now);
+	/* the world moves on; the chip sees the field only while it runs */
+	moving = sim_motion_advance(&sim->world, now,
+				    running ? sim->cal_seen : NULL);
+	if (!running)
 		return;
 
-	if (sim->motion) {
-		sim->motion_ns += delta;
-		sim->cal_ns += delta;
+	if (moving) {
+		sim->cal_ns += moving;
+		sim->still_ns = 0;
 		sim_cal_progress(sim);
 		return;
 	}
@@ -283,15 +291,6 @@ void sim_advance(struct sentral_sim *sim, ktime_t now)
 		div64_u64_rem(sim->still_ns, period, &sim->still_ns);
 		sim_learn_gyro_bias(sim);
 	}
-}
-
-void sim_set_motion(struct sentral_sim *sim, bool motion, ktime_t now)
-{
-	sim_advance(sim, now);
-	if (motion == sim->motion)
-		return;
-	sim->motion = motion;
-	sim->still_ns = 0;
 }
 
 static u8 sim_actual_rate(struct sentral_sim *sim, u8 reg)
@@ -366,17 +365,13 @@ static s32 sim_noise(struct sentral_sim *sim)
 	return (s32)((sim->noise_state >> 16) % 5) - 2;
 }
 
-/* Yaw in centidegrees, from the time spent in motion */
-static u32 sim_yaw_cdeg(struct sentral_sim *sim)
-{
-	return div_u64(sim->motion_ns * (SIM_SPIN_CDEG_PER_S / 1000),
-		       NSEC_PER_MSEC) % 36000;
-}
-
 static void sim_make_accel(struct sentral_sim *sim)
 {
+	s64 g[3];
 	int i;
 
+	/* gravity as the device sees it; the hand's own acceleration is not modelled */
+	sim_motion_to_body(&sim->world, sim_gravity, g);
 	for (i = 0; i < 3; i++) {
 		s64 off;
 
@@ -385,7 +380,7 @@ static void sim_make_accel(struct sentral_sim *sim)
 				      SIM_MICRO, SIM_ACCEL_LSB_UG, &off))
 			off = 0;
 		sim_put_s16(sim, SIM_REG_AX + 2 * i,
-			    sim_gravity[i] + sim->accel_bias[i] - off);
+			    g[i] + sim->accel_bias[i] - off);
 	}
 }
 
@@ -397,27 +392,25 @@ static void sim_make_gyro(struct sentral_sim *sim)
 		s64 learned;
 		s64 v = sim_gyro_true_bias[i] + sim_noise(sim);
 
+		s64 turn = (s64)sim->world.rate_mdps[i] * SIM_FS_COUNTS;
+
 		if (!sim_f32_to_scaled(sim->params[SIM_PARAM_GBIAS + i],
 				       SIM_FS_COUNTS, SIM_GYRO_FS_DPS, &learned))
 			v -= learned;
-		if (i == 2 && sim->motion)
-			v += SIM_SPIN_LSB;
+		/* the angular velocity, rounded to LSB */
+		turn += turn < 0 ? -SIM_GYRO_FS_DPS * 500 : SIM_GYRO_FS_DPS * 500;
+		v += div_s64(turn, SIM_GYRO_FS_DPS * 1000);
 		sim_put_s16(sim, SIM_REG_GX + 2 * i, v);
 	}
 }
 
 static void sim_make_mag(struct sentral_sim *sim)
 {
-	u32 yaw = sim_yaw_cdeg(sim);
-	s64 c = fixp_cos32_rad(yaw, 36000);
-	s64 s = fixp_sin32_rad(yaw, 36000);
 	s64 body[3];
 	int i;
 
-	/* the field in the body frame after a yaw about the down axis */
-	body[0] = (sim_field_ned[0] * c + sim_field_ned[1] * s) >> 31;
-	body[1] = (sim_field_ned[1] * c - sim_field_ned[0] * s) >> 31;
-	body[2] = sim_field_ned[2];
+	/* the Earth's field in the body frame */
+	sim_motion_to_body(&sim->world, sim_earth_field, body);
 
 	for (i = 0; i < 3; i++) {
 		/* what the sensor sees, then the model's correction */
@@ -434,16 +427,13 @@ static void sim_make_mag(struct sentral_sim *sim)
 
 static void sim_make_quat(struct sentral_sim *sim)
 {
-	u32 half = sim_yaw_cdeg(sim) / 2;
-	u64 one = 1ULL << 31;	/* fixp_sin32() returns Q31 */
+	const s32 *q = sim->world.q;
+	int i;
 
-	/* x, y, z, w order, w last (§1): a rotation about the down axis */
-	sim_put_le32(0, &sim->regs[SIM_REG_QX]);
-	sim_put_le32(0, &sim->regs[SIM_REG_QX + 4]);
-	sim_put_le32(sim_f32_from_ratio(fixp_sin32_rad(half, 36000), one),
-		     &sim->regs[SIM_REG_QX + 8]);
-	sim_put_le32(sim_f32_from_ratio(fixp_cos32_rad(half, 36000), one),
-		     &sim->regs[SIM_REG_QX + 12]);
+	/* x, y, z, w order, w last (§1): the body to NED rotation */
+	for (i = 0; i < 4; i++)
+		sim_put_le32(sim_f32_from_ratio(q[(i + 1) % 4], SIM_Q30),
+			     &sim->regs[SIM_REG_QX + 4 * i]);
 }
 
 /* held: the callback ran half a period or more after the sample was due */
@@ -633,12 +623,12 @@ void sim_power_on(struct sentral_sim *sim, ktime_t now)
 	sim->upload_done_at = ktime_add_ms(now, sim->upload_ms);
 
 	sim->last_advance = now;
-	sim->motion_ns = 0;
 	sim->cal_ns = 0;
 	sim->cal_step = 0;
 	sim->still_ns = 0;
 	memcpy(sim->coeff, sim_coeff_default, sizeof(sim->coeff));
 	memcpy(sim->coeff_from, sim_coeff_default, sizeof(sim->coeff_from));
+	bitmap_zero(sim->cal_seen, SIM_REGIONS);
 	sim->cal_flags = 0;
 	/* a reset raises CPUReset whatever EnableEvents says (§3 item 2) */
 	sim->event_status = SIM_EV_CPU_RESET;
@@ -673,6 +663,7 @@ void sim_model_init(struct sentral_sim *sim)
 	sim->ack_latency_us = 500;
 	sim->upload_ms = 10;
 	sim->ram_version = 0x0d17;
+	sim_motion_init(&sim->world, ktime_get());
 	sim_power_on(sim, ktime_get());
 }
 
@@ -735,7 +726,7 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 		       (host & SIM_HOST_RUN ? 0 : SIM_ST_STANDBY);
 	case SIM_REG_ALGO_STATUS:
 		v = algo & SIM_ALGO_STANDBY ? SIM_AS_STANDBY : 0;
-		if (!sim->motion)
+		if (!sim_motion_moving(&sim->world))
 			v |= SIM_AS_STILL;
 		if (sim_cal_status(sim) == 3)
 			v |= SIM_AS_CAL_STABLE;
