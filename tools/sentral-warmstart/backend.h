@@ -22,6 +22,8 @@ struct sw_backend_ops {
 			 struct sw_err *e);
 	int (*write_blob)(struct sw_backend *b, const uint8_t *blob,
 			  struct sw_err *e);
+	/* One sample of the magnetometer output, uT. */
+	int (*mag)(struct sw_backend *b, double ut[3], struct sw_err *e);
 	/* One sample of the scaled accelerometer output, LSB. */
 	int (*accel_raw)(struct sw_backend *b, int xyz[3], struct sw_err *e);
 	/* Accelerometer offsets (parameters 27..29) in LSB. */

@@ -25,6 +25,7 @@
 
 #include "backend.h"
 
+#define REG_MAG		0x12
 #define REG_ACCEL	0x1a
 #define REG_PARAM_ACK	0x3a
 #define REG_CAL_STATUS	0x43
@@ -295,6 +296,23 @@ static int i2c_accel_raw(struct sw_backend *b, int xyz[3], struct sw_err *e)
 	return SW_EXIT_OK;
 }
 
+/* 1 LSB = 1000/32768 uT (EM7180 register reference §1). */
+#define MAG_UT_PER_LSB (1000.0 / 32768)
+
+static int i2c_mag(struct sw_backend *b, double ut[3], struct sw_err *e)
+{
+	struct i2c_be *ib = to_i2c(b);
+	uint8_t buf[6];
+	int i;
+
+	/* One burst: the three axes of one sample. */
+	if (i2c_bus_read(ib->fd, ib->addr, REG_MAG, buf, 6) < 0)
+		return bus_err(ib, "reading", REG_MAG, e);
+	for (i = 0; i < 3; i++)
+		ut[i] = (int16_t)sw_get_le16(buf + 2 * i) * MAG_UT_PER_LSB;
+	return SW_EXIT_OK;
+}
+
 static int i2c_accel_offset_get(struct sw_backend *b, int lsb[3],
 				struct sw_err *e)
 {
@@ -333,6 +351,7 @@ static const struct sw_backend_ops i2c_ops = {
 	.cal_state = i2c_cal_state,
 	.read_blob = i2c_read_blob,
 	.write_blob = i2c_write_blob,
+	.mag = i2c_mag,
 	.accel_raw = i2c_accel_raw,
 	.accel_offset_get = i2c_accel_offset_get,
 	.accel_offset_set = i2c_accel_offset_set,

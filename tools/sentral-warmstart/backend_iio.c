@@ -24,6 +24,7 @@ struct iio_be {
 	struct sw_backend b;
 	char dir[PATH_MAX];	/* /sys/bus/iio/devices/iio:deviceN */
 	char parent[64];	/* the I2C client, e.g. "0-0028" */
+	double magn_ut;		/* in_magn_scale in uT per LSB, 0: not read yet */
 };
 
 /* Copy with truncation; the callers' buffers are far larger than the data. */
@@ -285,6 +286,34 @@ static int iio_accel_raw(struct sw_backend *b, int xyz[3], struct sw_err *e)
 	return SW_EXIT_OK;
 }
 
+static int iio_mag(struct sw_backend *b, double ut[3], struct sw_err *e)
+{
+	struct iio_be *ib = to_iio(b);
+	char attr[32], buf[64], *end;
+	int raw[3], i, ret;
+
+	if (!ib->magn_ut) {
+		ret = attr_read(ib, "in_magn_scale", buf, sizeof(buf), e);
+		if (ret)
+			return ret;
+		/* IIO magnetometers are in gauss: 1 G = 100 uT. */
+		ib->magn_ut = strtod(buf, &end) * 100;
+		if (end == buf || *end || !(ib->magn_ut > 0))
+			return sw_err_set(e, SW_EXIT_IO,
+					  "%s: in_magn_scale: unexpected value \"%s\"",
+					  b->name, buf);
+	}
+	for (i = 0; i < 3; i++) {
+		snprintf(attr, sizeof(attr), "in_magn_%s_raw", axes[i]);
+		ret = attr_read_int(ib, attr, &raw[i], e);
+		if (ret)
+			return ret;
+	}
+	for (i = 0; i < 3; i++)
+		ut[i] = raw[i] * ib->magn_ut;
+	return SW_EXIT_OK;
+}
+
 static int iio_accel_offset_get(struct sw_backend *b, int lsb[3],
 				struct sw_err *e)
 {
@@ -325,6 +354,7 @@ static const struct sw_backend_ops iio_ops = {
 	.cal_state = iio_cal_state,
 	.read_blob = iio_read_blob,
 	.write_blob = iio_write_blob,
+	.mag = iio_mag,
 	.accel_raw = iio_accel_raw,
 	.accel_offset_get = iio_accel_offset_get,
 	.accel_offset_set = iio_accel_offset_set,

@@ -7,141 +7,274 @@
 #include <string.h>
 
 #include "cmd.h"
+#include "coverage.h"
 
 #define GBIAS_POLL_MS 50
 #define CAL_POLL_MS 250
+/* The magnetometer is sampled this often while the device moves. */
+#define MAG_POLL_MS 50
 /* Without a terminal, print a line on change or at least this often. */
 #define CAL_LINE_MS 5000
-#define BAR_WIDTH 30
+/* Lines of the in-place terminal view (see draw_tty). */
+#define TTY_LINES (SW_COV_BANDS + 3)
 
-/* A fraction for the bar: status 0..3 first, then the score to target. */
-static double cal_progress(const struct sw_cal_state *cs, double target)
+struct cal_run {
+	struct sw_env *env;
+	FILE *out;		/* progress: a terminal, lines or JSON */
+	const struct sw_opts *o;
+	struct sw_cov cov;
+	struct sw_cal_state cs, best;
+	bool have_best;
+	uint64_t start, deadline;
+	bool drawn;		/* the terminal view is on screen */
+};
+
+static unsigned int coverage_pct(const struct cal_run *r)
 {
-	double pct = sw_score_pct(cs->score_raw), f;
-
-	if (cs->status < 3)
-		return cs->status * 0.25;
-	/* Scores start around 10-20% once complete; 10% maps to 75%. */
-	f = (10.0 - pct) / (10.0 - target);
-	if (f < 0)
-		f = 0;
-	if (f > 1)
-		f = 1;
-	return 0.75 + 0.25 * f;
+	return sw_cov_seen(&r->cov) * 100 / SW_COV_REGIONS;
 }
 
-static void show_progress(struct sw_env *env, const struct sw_cal_state *cs,
-			  bool have_best, double best, double target,
-			  unsigned int left_s)
+static unsigned int left_s(const struct cal_run *r, uint64_t now)
 {
-	char bestbuf[32];
+	return now >= r->deadline ? 0 :
+	       (unsigned int)((r->deadline - now + 999) / 1000);
+}
 
-	if (have_best)
-		snprintf(bestbuf, sizeof(bestbuf), "%.3f%%", best);
+static const char *fit_name(enum sw_fit f)
+{
+	return f == SW_FIT_SPHERE ? "sphere" :
+	       f == SW_FIT_PLANAR ? "planar" : "few";
+}
+
+static void json_progress(struct cal_run *r, const char *event, uint64_t now)
+{
+	enum sw_axis miss[SW_NAXES];
+	char hint[256];
+	int i, n = sw_cov_missing(&r->cov, miss);
+	const char *h;
+
+	sw_cov_hint(&r->cov, hint, sizeof(hint));
+	fprintf(r->out, "{\"event\":\"%s\",\"elapsed_ms\":%llu,\"status\":%d,\"score\":%.3f,\"best_score\":",
+		event, (unsigned long long)(now - r->start), r->cs.status,
+		sw_score_pct(r->cs.score_raw));
+	if (r->have_best)
+		fprintf(r->out, "%.3f", sw_score_pct(r->best.score_raw));
 	else
-		snprintf(bestbuf, sizeof(bestbuf), "-");
-	if (env->tty) {
-		char bar[BAR_WIDTH + 1];
-		int i, fill = (int)(cal_progress(cs, target) * BAR_WIDTH + 0.5);
+		fputs("null", r->out);
+	fprintf(r->out, ",\"coverage\":%u,\"samples\":%u,\"fit\":\"%s\",\"regions\":\"",
+		coverage_pct(r), r->cov.samples, fit_name(r->cov.fit));
+	for (i = 0; i < SW_COV_REGIONS; i++)
+		fputc(r->cov.seen[i] ? '1' : '0', r->out);
+	fputs("\",\"missing\":[", r->out);
+	for (i = 0; i < n; i++)
+		fprintf(r->out, "%s\"%s\"", i ? "," : "", sw_axis_name(miss[i]));
+	/* The hint is plain ASCII without quotes or backslashes. */
+	fputs("],\"hint\":\"", r->out);
+	for (h = hint; *h; h++)
+		if (*h != '"' && *h != '\\')
+			fputc(*h, r->out);
+	fputs("\"}\n", r->out);
+	fflush(r->out);
+}
 
-		for (i = 0; i < BAR_WIDTH; i++)
-			bar[i] = i < fill ? '#' : '-';
-		bar[BAR_WIDTH] = '\0';
-		fprintf(env->out,
-			"\r[%s] status %d/3  score %8.3f%%  best %-9s %4u s left ",
-			bar, cs->status, sw_score_pct(cs->score_raw), bestbuf,
-			left_s);
-	} else {
-		fprintf(env->out,
-			"calibrate: status %d/3, score %.3f%%, best %s, %u s left\n",
-			cs->status, sw_score_pct(cs->score_raw), bestbuf, left_s);
+/*
+ * The sphere as six bands of regions, north (+Z) on top, each region '#'
+ * when seen; then the chip's state and the hint. Redrawn in place.
+ */
+static void draw_tty(struct cal_run *r, uint64_t now)
+{
+	int b, k, width = sw_cov_band_size(2);
+	char hint[256], best[32];
+
+	if (r->drawn)
+		fprintf(r->out, "\033[%dA", TTY_LINES);
+	r->drawn = true;
+	fprintf(r->out, "sphere coverage %3u%%  (%u samples)\033[K\n",
+		coverage_pct(r), r->cov.samples);
+	for (b = 0; b < SW_COV_BANDS; b++) {
+		int first = sw_cov_band_first(b), n = sw_cov_band_size(b);
+
+		fprintf(r->out, "  %s %*s", b == 0 ? "+Z" : b == 5 ? "-Z" : "  ",
+			(width - n) / 2, "");
+		for (k = 0; k < n; k++)
+			fputc(r->cov.seen[first + k] ? '#' : '.', r->out);
+		fputs("\033[K\n", r->out);
 	}
-	fflush(env->out);
+	if (r->have_best)
+		snprintf(best, sizeof(best), "%.3f%%",
+			 sw_score_pct(r->best.score_raw));
+	else
+		snprintf(best, sizeof(best), "-");
+	fprintf(r->out, "status %d/3  score %.3f%%  best %s  %u s left\033[K\n",
+		r->cs.status, sw_score_pct(r->cs.score_raw), best,
+		left_s(r, now));
+	sw_cov_hint(&r->cov, hint, sizeof(hint));
+	fprintf(r->out, "hint: %s\033[K\n", hint);
+	fflush(r->out);
+}
+
+static void print_line(struct cal_run *r, uint64_t now)
+{
+	char hint[256], best[32];
+
+	if (r->have_best)
+		snprintf(best, sizeof(best), "%.3f%%",
+			 sw_score_pct(r->best.score_raw));
+	else
+		snprintf(best, sizeof(best), "-");
+	sw_cov_hint(&r->cov, hint, sizeof(hint));
+	fprintf(r->out,
+		"calibrate: status %d/3, score %.3f%%, best %s, coverage %u%%, %u s left; %s\n",
+		r->cs.status, sw_score_pct(r->cs.score_raw), best,
+		coverage_pct(r), left_s(r, now), hint);
+	fflush(r->out);
+}
+
+/* Step 1: the gyro bias is learned while the device is still. */
+static int wait_gyro_bias(struct sw_backend *b, struct cal_run *r,
+			  struct sw_err *e)
+{
+	struct sw_env *env = r->env;
+	int ret;
+
+	sw_note(env, "Step 1/2: keep the device still while the gyro bias is learned...");
+	for (;;) {
+		ret = b->ops->cal_state(b, &r->cs, e);
+		if (ret)
+			return ret;
+		if (r->cs.gyro_bias_update)
+			break;
+		if (env->now_ms(env->clk) >= r->deadline)
+			return sw_err_set(e, SW_EXIT_CAL,
+					  "gyro bias not learned within %u s: keep the device still and retry",
+					  r->o->timeout_s);
+		env->sleep_ms(env->clk, GBIAS_POLL_MS);
+	}
+	sw_note(env, "Gyro bias learned.");
+	return SW_EXIT_OK;
+}
+
+/* One look at the chip: keep a snapshot of the best calibration seen. */
+static int poll_chip(struct sw_backend *b, struct cal_run *r,
+		     uint8_t *best_blob, struct sw_err *e)
+{
+	int ret = b->ops->cal_state(b, &r->cs, e);
+
+	if (ret)
+		return ret;
+	if (r->cs.status == 3 &&
+	    (!r->have_best || r->cs.score_raw < r->best.score_raw)) {
+		/*
+		 * The chip's calibration keeps moving; snapshot the
+		 * coefficients at the best score seen so the saved file is
+		 * that one, not whatever the end brings.
+		 */
+		ret = b->ops->read_blob(b, best_blob, e);
+		if (ret)
+			return ret;
+		r->best = r->cs;
+		r->have_best = true;
+	}
+	return SW_EXIT_OK;
 }
 
 int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, struct sw_err *e)
 {
-	uint64_t start = env->now_ms(env->clk), now, last_line = 0;
-	uint64_t deadline = start + (uint64_t)o->timeout_s * 1000u;
-	struct sw_cal_state cs, best = { 0 };
-	int shown_status = -1, shown_best = -1;
-	uint8_t blob[SW_BLOB_SIZE], best_blob[SW_BLOB_SIZE];
-	bool have_best = false, reached = false;
-	int ret;
+	struct cal_run run, *r = &run;
+	struct sw_env notes = *env;
+	uint8_t best_blob[SW_BLOB_SIZE];
+	uint64_t now, next_poll, last_line = 0;
+	int shown_status = -1, shown_best = -1, ret;
+	unsigned int shown_cov = 0;
+	char hint[256], path[4096];
+	bool reached = false;
+	double ut[3];
 
-	sw_note(env, "Step 1/2: keep the device still while the gyro bias is learned...");
-	for (;;) {
-		ret = b->ops->cal_state(b, &cs, e);
-		if (ret)
-			return ret;
-		if (cs.gyro_bias_update)
-			break;
-		if (env->now_ms(env->clk) >= deadline)
-			return sw_err_set(e, SW_EXIT_CAL,
-					  "gyro bias not learned within %u s: keep the device still and retry",
-					  o->timeout_s);
-		env->sleep_ms(env->clk, GBIAS_POLL_MS);
+	memset(r, 0, sizeof(*r));
+	sw_cov_init(&r->cov);
+	r->env = env;
+	r->out = env->out;
+	r->o = o;
+	/* With --json, stdout carries JSON only: the messages go to stderr. */
+	if (o->json) {
+		notes.out = env->err;
+		r->env = &notes;
 	}
-	sw_note(env, "Gyro bias learned.");
-	sw_note(env, "Step 2/2: rotate the device slowly in a figure-8, covering every direction, pivoting about its centre (target score %.1f%%, up to %u s)...",
+	r->start = env->now_ms(env->clk);
+	r->deadline = r->start + (uint64_t)o->timeout_s * 1000u;
+
+	ret = wait_gyro_bias(b, r, e);
+	if (ret)
+		return ret;
+	sw_note(r->env, "Step 2/2: rotate the device slowly in a figure-8, covering every direction, pivoting about its centre (target score %.1f%%, up to %u s)...",
 		o->target_score, o->timeout_s);
 
+	next_poll = env->now_ms(env->clk);
 	for (;;) {
-		ret = b->ops->cal_state(b, &cs, e);
+		ret = b->ops->mag(b, ut, e);
 		if (ret)
 			return ret;
-		if (cs.status == 3 &&
-		    (!have_best || cs.score_raw < best.score_raw)) {
-			/*
-			 * The chip's calibration keeps moving; snapshot the
-			 * coefficients at the best score seen so the saved
-			 * file is that one, not whatever the end brings.
-			 */
-			ret = b->ops->read_blob(b, blob, e);
+		sw_cov_add(&r->cov, ut);
+		now = env->now_ms(env->clk);
+		if (now >= next_poll) {
+			next_poll = now + CAL_POLL_MS;
+			ret = poll_chip(b, r, best_blob, e);
 			if (ret)
 				return ret;
-			memcpy(best_blob, blob, sizeof(blob));
-			best = cs;
-			have_best = true;
+			if (o->json) {
+				json_progress(r, "progress", now);
+			} else if (env->tty) {
+				draw_tty(r, now);
+			} else if (r->cs.status != shown_status ||
+				   (r->have_best &&
+				    r->best.score_raw != shown_best) ||
+				   coverage_pct(r) >= shown_cov + 10 ||
+				   now - last_line >= CAL_LINE_MS) {
+				/* Plain lines only when there is news. */
+				print_line(r, now);
+				last_line = now;
+				shown_status = r->cs.status;
+				shown_best = r->best.score_raw;
+				shown_cov = coverage_pct(r) / 10 * 10;
+			}
+			if (r->have_best &&
+			    sw_score_pct(r->best.score_raw) <= o->target_score) {
+				reached = true;
+				break;
+			}
+			if (now >= r->deadline)
+				break;
 		}
-		now = env->now_ms(env->clk);
-		/* A bar redraws in place; plain lines only when news. */
-		if (env->tty || cs.status != shown_status ||
-		    (have_best && best.score_raw != shown_best) ||
-		    now - last_line >= CAL_LINE_MS) {
-			show_progress(env, &cs, have_best,
-				      sw_score_pct(best.score_raw),
-				      o->target_score,
-				      now >= deadline ? 0 :
-				      (unsigned int)((deadline - now + 999) / 1000));
-			last_line = now;
-			shown_status = cs.status;
-			shown_best = best.score_raw;
-		}
-		if (have_best && sw_score_pct(best.score_raw) <= o->target_score) {
-			reached = true;
-			break;
-		}
-		if (now >= deadline)
-			break;
-		env->sleep_ms(env->clk, CAL_POLL_MS);
+		env->sleep_ms(env->clk, MAG_POLL_MS);
 	}
-	if (env->tty)
-		fputc('\n', env->out);
 
-	if (!have_best)
+	sw_cov_hint(&r->cov, hint, sizeof(hint));
+	if (o->json)
+		json_progress(r, reached ? "complete" : "timeout", now);
+	if (!r->have_best)
 		return sw_err_set(e, SW_EXIT_CAL,
-				  "calibration did not complete within %u s (status %d of 3); nothing saved",
-				  o->timeout_s, cs.status);
+				  "calibration did not complete within %u s (status %d of 3, %u%% of the sphere covered; %s); nothing saved",
+				  o->timeout_s, r->cs.status, coverage_pct(r),
+				  hint);
 	if (reached)
-		sw_note(env, "Calibration complete: score %.3f%%.",
-			sw_score_pct(best.score_raw));
+		sw_note(r->env, "Calibration complete: score %.3f%%, %u%% of the sphere covered.",
+			sw_score_pct(r->best.score_raw), coverage_pct(r));
 	else
-		sw_note(env, "Timed out after %u s; keeping the best score reached, %.3f%% (target %.1f%%).",
-			o->timeout_s, sw_score_pct(best.score_raw),
-			o->target_score);
-	return sw_save_snapshot(b, o, env, &best, best_blob, e);
+		sw_note(r->env, "Timed out after %u s; keeping the best score reached, %.3f%% (target %.1f%%); %u%% of the sphere covered; %s.",
+			o->timeout_s, sw_score_pct(r->best.score_raw),
+			o->target_score, coverage_pct(r), hint);
+	ret = sw_save_snapshot(b, o, r->env, &r->best, best_blob, e);
+	if (o->json) {
+		sw_file_path(o, b, path, sizeof(path));
+		fprintf(r->out, "{\"event\":\"%s\",\"status\":%d,\"score\":%.3f,\"file\":",
+			ret ? "not_saved" : "saved", r->best.status,
+			sw_score_pct(r->best.score_raw));
+		sw_json_str(r->out, path);
+		fputs("}\n", r->out);
+		fflush(r->out);
+	}
+	return ret;
 }
 
 struct accel_stats {

@@ -72,7 +72,8 @@ void sw_usage(FILE *f)
 	      "  restore [--file F] [--if-present] [--force]\n"
 	      "                                  write the saved calibration back to the chip\n"
 	      "  calibrate [--timeout SEC] [--target-score S] [--max-score S] [--file F] [--force]\n"
-	      "                                  guided figure-8 magnetic calibration, then save\n"
+	      "            [--json]              guided magnetic calibration with a map of the\n"
+	      "                                  directions covered, then save\n"
 	      "  accel-cal [--samples N]         one-point accelerometer calibration (Z down)\n"
 	      "  show FILE                       decode and check a saved file\n"
 	      "\n"
@@ -86,7 +87,7 @@ void sw_usage(FILE *f)
 	      "      --force           save a worse calibration, restore a file made for\n"
 	      "                        another chip version, use --i2c with a driver bound\n"
 	      "      --if-present      restore: a missing file is not an error\n"
-	      "      --json            status: machine-readable output\n"
+	      "      --json            status, calibrate: machine-readable output\n"
 	      "      --max-score S     acceptable score in percent (default 5.0)\n"
 	      "      --target-score S  calibrate: stop at this score (default 3.0)\n"
 	      "      --timeout SEC     calibrate: give up after SEC seconds (default 120)\n"
@@ -188,7 +189,8 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 		const char *name;
 		unsigned int cmds;	/* bit per enum sw_command */
 	} rules[] = {
-		{ OPT_JSON, "--json", 1u << SW_CMD_STATUS },
+		{ OPT_JSON, "--json", 1u << SW_CMD_STATUS |
+				      1u << SW_CMD_CALIBRATE },
 		{ OPT_IF_PRESENT, "--if-present", 1u << SW_CMD_RESTORE },
 		{ OPT_FILE, "--file", 1u << SW_CMD_SAVE | 1u << SW_CMD_RESTORE |
 					1u << SW_CMD_CALIBRATE |

@@ -303,7 +303,7 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 	return SW_EXIT_OK;
 }
 
-static void json_str(FILE *f, const char *s)
+void sw_json_str(FILE *f, const char *s)
 {
 	fputc('"', f);
 	for (; *s; s++) {
@@ -348,9 +348,9 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 
 	if (o->json) {
 		fprintf(out, "{\"device\":");
-		json_str(out, b->name);
+		sw_json_str(out, b->name);
 		fprintf(out, ",\"backend\":\"%s\",\"key\":", b->kind);
-		json_str(out, b->key);
+		sw_json_str(out, b->key);
 		if (have_chip)
 			fprintf(out, ",\"product_id\":%u,\"revision_id\":%u,\"rom_version\":%u,\"ram_version\":%u",
 				chip.product_id, chip.revision_id,
@@ -359,14 +359,14 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 			cs.status, sw_score_pct(cs.score_raw), cs.score_raw,
 			cs.mag_transient, cs.gyro_bias_update,
 			cs.mag_cal_update);
-		json_str(out, path);
+		sw_json_str(out, path);
 		if (have_file)
 			fprintf(out, ",\"saved\":{\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"saved_at\":%llu}}\n",
 				f.cal_status, sw_score_pct(f.score_raw),
 				f.score_raw, (unsigned long long)f.saved_at);
 		else {
 			fprintf(out, ",\"saved\":null,\"saved_problem\":");
-			json_str(out, why);
+			sw_json_str(out, why);
 			fprintf(out, "}\n");
 		}
 		return SW_EXIT_OK;

@@ -29,6 +29,9 @@ void sw_note(struct sw_env *env, const char *fmt, ...)
 /* "sentral-warmstart: error: ..." on err (and in the kernel log). */
 void sw_report(struct sw_env *env, const struct sw_err *e);
 
+/* s as a JSON string, quoted and escaped. */
+void sw_json_str(FILE *f, const char *s);
+
 /* --file, or STATE_DIR/KEY.ws. */
 void sw_file_path(const struct sw_opts *o, const struct sw_backend *b,
 		  char *out, size_t len);

@@ -68,6 +68,22 @@ static int f_write_blob(struct sw_backend *b, const uint8_t *blob,
 	return SW_EXIT_OK;
 }
 
+static int f_mag(struct sw_backend *b, double ut[3], struct sw_err *e)
+{
+	struct fake_be *f = to_fake(b);
+
+	(void)e;
+	f->mag_reads++;
+	if (f->mag) {
+		f->mag(f->clk->now_ms, ut);
+	} else {
+		ut[0] = 47.2;
+		ut[1] = -12.5;
+		ut[2] = 87.4;
+	}
+	return SW_EXIT_OK;
+}
+
 static int f_accel_raw(struct sw_backend *b, int xyz[3], struct sw_err *e)
 {
 	static const int expect[3] = { 0, 0, SW_ACCEL_1G_LSB };
@@ -109,6 +125,7 @@ static const struct sw_backend_ops fake_ops = {
 	.cal_state = f_cal_state,
 	.read_blob = f_read_blob,
 	.write_blob = f_write_blob,
+	.mag = f_mag,
 	.accel_raw = f_accel_raw,
 	.accel_offset_get = f_offset_get,
 	.accel_offset_set = f_offset_set,

@@ -39,6 +39,9 @@ struct fake_be {
 	int noise;
 	bool offset_readback_wrong;
 	unsigned int samples_read;
+	/* the magnetometer at a time: NULL reads a device at rest */
+	void (*mag)(uint64_t now_ms, double ut[3]);
+	unsigned int mag_reads;
 };
 
 void fake_init(struct fake_be *f, struct fake_clock *clk);

@@ -3,6 +3,7 @@
  * Unit tests: save, restore, status, show, calibrate and accel-cal against
  * a fake chip and a fake clock.
  */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -386,6 +387,29 @@ static const struct fake_step cal_ok[] = {
 	{ 11000, 3, 0x8000 + 900, 0 },	/* 2.747 %: done */
 };
 
+/* A field of 49 uT around the simulator's hard-iron offset (uT). */
+static void mag_at(double z, double lon, double ut[3])
+{
+	double s = sqrt(1 - z * z);
+
+	ut[0] = 25.0 + 49.0 * s * cos(lon);
+	ut[1] = -12.5 + 49.0 * s * sin(lon);
+	ut[2] = 40.0 + 49.0 * z;
+}
+
+/* Every direction in 10 s: a golden-angle spiral, one point per 50 ms. */
+static void mag_sphere(uint64_t t, double ut[3])
+{
+	mag_at(1 - 2 * (double)(t % 10000) / 10000, (double)(t / 50) * 2.39996,
+	       ut);
+}
+
+/* A turn about Z at 90 degrees per second, nothing else. */
+static void mag_spin(uint64_t t, double ut[3])
+{
+	mag_at(0.91, (double)t * M_PI / 2000, ut);
+}
+
 static void test_calibrate(void **state)
 {
 	struct ctx *c = *state;
@@ -395,6 +419,7 @@ static void test_calibrate(void **state)
 	c->fb.script = cal_ok;
 	c->fb.nsteps = sizeof(cal_ok) / sizeof(cal_ok[0]);
 	c->fb.blob_follows_score = true;
+	c->fb.mag = mag_sphere;
 	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_OK);
 	assert_true(c->clk.now_ms >= 11000 && c->clk.now_ms < 12000);
@@ -404,6 +429,42 @@ static void test_calibrate(void **state)
 	assert_non_null(strstr(out_text(c), "figure-8"));
 	assert_non_null(strstr(out_text(c), "calibrate: status 3/3"));
 	assert_non_null(strstr(out_text(c), "Calibration complete"));
+	/* 20 samples a second, and most of the sphere seen in 8 s of turning */
+	assert_in_range(c->fb.mag_reads, 150, 200);
+	assert_non_null(strstr(out_text(c), "% of the sphere covered."));
+	assert_non_null(strstr(out_text(c), "coverage 9"));
+}
+
+static void test_calibrate_json(void **state)
+{
+	struct ctx *c = *state;
+	const char *line, *end;
+	int objects = 0;
+
+	c->clk.now_ms = 0;
+	c->o.json = true;
+	c->fb.script = cal_ok;
+	c->fb.nsteps = sizeof(cal_ok) / sizeof(cal_ok[0]);
+	c->fb.mag = mag_sphere;
+	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	/* stdout holds JSON objects only, one a line; messages go to stderr */
+	for (line = out_text(c); *line; line = end + 1) {
+		end = strchr(line, '\n');
+		assert_non_null(end);
+		assert_int_equal(line[0], '{');
+		assert_int_equal(end[-1], '}');
+		objects++;
+	}
+	/* one per 250 ms over the 8 s of step 2, the end and the save */
+	assert_in_range(objects, 30, 36);
+	assert_non_null(strstr(c->out, "{\"event\":\"progress\",\"elapsed_ms\":"));
+	assert_non_null(strstr(c->out, "\"fit\":\"sphere\",\"regions\":\"1"));
+	assert_non_null(strstr(c->out, "{\"event\":\"complete\","));
+	assert_non_null(strstr(c->out, "{\"event\":\"saved\",\"status\":3,\"score\":2.747,\"file\":\""));
+	fflush(c->errf);
+	assert_non_null(strstr(c->err, "Gyro bias learned"));
+	assert_non_null(strstr(c->err, "saved iio:device0 calibration"));
 }
 
 /* Stuck at 4 %, then worse: keep and save the 4 % snapshot. */
@@ -444,9 +505,12 @@ static void test_calibrate_incomplete(void **state)
 	c->o.timeout_s = 5;
 	c->fb.script = cal_never;
 	c->fb.nsteps = 2;
+	c->fb.mag = mag_spin;
 	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_CAL);
 	assert_non_null(strstr(c->e.msg, "did not complete"));
+	/* and says what motion is missing */
+	assert_non_null(strstr(c->e.msg, "0% of the sphere covered; it has only turned about its Z axis: also tilt it"));
 	assert_int_equal(access(c->path, F_OK), -1);
 
 	/* Never still: the gyro bias is never learned. */
@@ -459,17 +523,25 @@ static void test_calibrate_incomplete(void **state)
 	assert_non_null(strstr(c->e.msg, "gyro bias"));
 }
 
-static void test_calibrate_tty_bar(void **state)
+static void test_calibrate_tty_map(void **state)
 {
 	struct ctx *c = *state;
+	const char *o;
 
 	c->clk.now_ms = 0;
 	c->env.tty = true;
 	c->fb.script = cal_ok;
 	c->fb.nsteps = sizeof(cal_ok) / sizeof(cal_ok[0]);
+	c->fb.mag = mag_sphere;
 	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_OK);
-	assert_non_null(strstr(out_text(c), "\r[##############################] status 3/3"));
+	o = out_text(c);
+	/* the 9-line view is redrawn in place: cursor up 9 lines */
+	assert_non_null(strstr(o, "\033[9Asphere coverage "));
+	/* the +Z cap, centred above the 34 regions of the widest band */
+	assert_non_null(strstr(o, "\n  +Z                 #\033[K\n"));
+	assert_non_null(strstr(o, "status 3/3  score 2.747%  best 2.747%"));
+	assert_non_null(strstr(o, "hint: "));
 }
 
 static void test_accel_cal(void **state)
@@ -538,7 +610,8 @@ int main(void)
 		T(test_calibrate),
 		T(test_calibrate_timeout_keeps_best),
 		T(test_calibrate_incomplete),
-		T(test_calibrate_tty_bar),
+		T(test_calibrate_json),
+		T(test_calibrate_tty_map),
 		T(test_accel_cal),
 		T(test_accel_cal_refusals),
 	};
