@@ -306,13 +306,13 @@ static void sim_path_seek(struct sim_motion *m, u64 t)
 		const struct sim_segment *sg = &m->seg[m->cur];
 		u64 len = (u64)sg->ms * NSEC_PER_MSEC;
 		u64 end = m->cur_start_ns + len;
-		u64 upto = min(end, t);
+		u64 until = min(end, t);
 		s32 r[4], n[4];
 
 		if (sg->rate_dps)
-			m->path_moving_ns += upto - m->path_pos_ns;
-		m->path_pos_ns = upto;
-		if (upto < end)
+			m->path_moving_ns += until - m->path_pos_ns;
+		m->path_pos_ns = until;
+		if (until < end)
 			break;
 		sim_axis_angle(sg->axis, sim_turn(sg->rate_dps * 1000LL, len), r);
 		sim_qmul(m->qseg, r, n);
@@ -370,8 +370,9 @@ static void sim_rate_at(const struct sim_motion *m, u64 t, s32 *mdps)
 		s64 v = d[0] < 0 ? -d[i + 1] : d[i + 1];
 
 		/* 2 v / h rad/s in mdps: v * 2 * 180e3 / (pi * h) */
-		mdps[i] = div64_s64(v * 360000 * (NSEC_PER_SEC / SIM_RATE_STEP_NS),
-				  SIM_PI_Q30);
+		mdps[i] = div64_s64(v * 360000 *
+				    (NSEC_PER_SEC / SIM_RATE_STEP_NS),
+				    SIM_PI_Q30);
 	}
 }
 

@@ -9,6 +9,7 @@
 #define SENTRAL_SIM_MOTION_H
 
 #include <linux/bitmap.h>
+#include <linux/bits.h>
 #include <linux/ktime.h>
 #include <linux/types.h>
 
@@ -17,7 +18,7 @@
 /* Path segments a test can queue */
 #define SIM_PATH_MAX		16
 /* Q30 fixed point: quaternions and unit vectors */
-#define SIM_Q30			(1 << 30)
+#define SIM_Q30			BIT(30)
 
 enum sim_pattern {
 	SIM_PAT_STILL,
