@@ -11,8 +11,8 @@
 
 #define GBIAS_POLL_MS 50
 #define CAL_POLL_MS 250
-/* The magnetometer is sampled this often while the device moves. */
-#define MAG_POLL_MS 50
+/* The magnetometer is sampled this often: above its 30 Hz default rate. */
+#define MAG_POLL_MS 25
 /* Without a terminal, print a line on change or at least this often. */
 #define CAL_LINE_MS 5000
 /* Lines of the in-place terminal view (see draw_tty). */

@@ -8,6 +8,8 @@
  * least squares). Samples that lie in a plane, as a turn about one axis
  * gives, cannot place that centre: until a motion has given the fit a
  * third dimension they wait; afterwards the last centre found is used.
+ * When the chip's calibration changes, its output moves; the window is
+ * short (a few seconds) so that the fit follows.
  */
 #include <math.h>
 #include <stdio.h>
@@ -26,6 +28,13 @@ static const int band_first[SW_COV_BANDS] = { 0, 1, 16, 50, 84, 99 };
 #define MIN_FIT 12
 /* Smallest pivot of the normalised fit, relative: less is a plane. */
 #define MIN_PIVOT 0.01
+/*
+ * The Earth's field is 25 to 65 uT; with soft iron, a sphere outside this
+ * range is not the field: typically two turns about one axis, apart by a
+ * change of the chip's calibration, which always fit some sphere.
+ */
+#define MIN_RADIUS_UT 25.0
+#define MAX_RADIUS_UT 100.0
 /* An axis direction less covered than this is missing. */
 #define AXIS_SEEN 0.5
 
@@ -209,7 +218,8 @@ static void fit(struct sw_cov *c)
 	}
 	r2 = x[3] + x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
 	/* A tiny cap of a sphere fits any huge sphere: no better than a plane. */
-	if (r2 <= 0 || sqrt(r2) > 10) {
+	if (r2 <= 0 || sqrt(r2) > 10 || s * sqrt(r2) < MIN_RADIUS_UT ||
+	    s * sqrt(r2) > MAX_RADIUS_UT) {
 		c->fit = SW_FIT_PLANAR;
 		return;
 	}
@@ -329,8 +339,11 @@ int sw_cov_turned_about(const struct sw_cov *c)
 		if (range[j] < range[best])
 			best = j;
 	}
-	/* Turning about an axis leaves that component of the field alone. */
-	return range[best] < 0.2 * max ? best : -1;
+	/*
+	 * Turning about an axis leaves that component of the field alone
+	 * (but for the chip's calibration updates meanwhile).
+	 */
+	return range[best] < 0.35 * max ? best : -1;
 }
 
 /* How to put the field along a direction: it points down (and north). */

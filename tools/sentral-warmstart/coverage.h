@@ -55,7 +55,7 @@ int sw_cov_band_size(int band);
 
 void sw_cov_init(struct sw_cov *c);
 /*
- * One magnetometer sample (any unit). Samples within 1% of the field
+ * One magnetometer sample, uT. Samples within 1% of the field
  * strength of the last one kept are dropped: a device at rest adds
  * nothing. Returns whether it was kept.
  */

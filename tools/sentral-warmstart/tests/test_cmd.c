@@ -397,10 +397,10 @@ static void mag_at(double z, double lon, double ut[3])
 	ut[2] = 40.0 + 49.0 * z;
 }
 
-/* Every direction in 10 s: a golden-angle spiral, one point per 50 ms. */
+/* Every direction in 10 s: a golden-angle spiral, one point per 25 ms. */
 static void mag_sphere(uint64_t t, double ut[3])
 {
-	mag_at(1 - 2 * (double)(t % 10000) / 10000, (double)(t / 50) * 2.39996,
+	mag_at(1 - 2 * (double)(t % 10000) / 10000, (double)(t / 25) * 2.39996,
 	       ut);
 }
 
@@ -429,8 +429,8 @@ static void test_calibrate(void **state)
 	assert_non_null(strstr(out_text(c), "figure-8"));
 	assert_non_null(strstr(out_text(c), "calibrate: status 3/3"));
 	assert_non_null(strstr(out_text(c), "Calibration complete"));
-	/* 20 samples a second, and most of the sphere seen in 8 s of turning */
-	assert_in_range(c->fb.mag_reads, 150, 200);
+	/* 40 samples a second, and most of the sphere seen in 8 s of turning */
+	assert_in_range(c->fb.mag_reads, 300, 400);
 	assert_non_null(strstr(out_text(c), "% of the sphere covered."));
 	assert_non_null(strstr(out_text(c), "coverage 9"));
 }

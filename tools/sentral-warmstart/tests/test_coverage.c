@@ -127,6 +127,33 @@ static void test_spin_about_z(void **state)
 	assert_non_null(strstr(hint, "tilt"));
 }
 
+/*
+ * The chip updates its calibration during a spin: its output moves by the
+ * change, and two rings at different heights fit a sphere, a small one.
+ * The Earth's field is not that small: still a turn about Z.
+ */
+static void test_spin_with_update(void **state)
+{
+	static struct sw_cov c;
+	char hint[256];
+	int i;
+
+	(void)state;
+	sw_cov_init(&c);
+	for (i = 0; i < 80; i++) {
+		double v[3];
+
+		dir_at(0.91, i * 0.1, FIELD, v);
+		v[2] -= i < 40 ? 0 : 8.0;	/* a fifth of the Z offset learned */
+		sw_cov_add(&c, v);
+	}
+	assert_int_equal(c.fit, SW_FIT_PLANAR);
+	assert_int_equal(sw_cov_seen(&c), 0);
+	assert_int_equal(sw_cov_turned_about(&c), 2);
+	sw_cov_hint(&c, hint, sizeof(hint));
+	assert_non_null(strstr(hint, "only turned about its Z axis"));
+}
+
 /* The upper half only: the -Z side is missing, the +Z side is not. */
 static void test_upper_half(void **state)
 {
@@ -235,6 +262,7 @@ int main(void)
 		cmocka_unit_test(test_regions_equal_area),
 		cmocka_unit_test(test_full_sphere),
 		cmocka_unit_test(test_spin_about_z),
+		cmocka_unit_test(test_spin_with_update),
 		cmocka_unit_test(test_upper_half),
 		cmocka_unit_test(test_missing_order),
 		cmocka_unit_test(test_still),
