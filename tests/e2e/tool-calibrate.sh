@@ -1,0 +1,126 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# Guided calibration driven by each motion pattern of the simulator, through
+# the driver and over i2c-dev: with a figure-8 or the sphere pattern
+# `calibrate --json` ends with status 3, saves and reports the sphere
+# covered; with a spin about Z alone it times out and says that the device
+# has only turned about its Z axis. Prints the figures of the guidance:
+# seconds from the start of the motion to status 3, coverage at the end and
+# how many of the regions the tool shows the chip has seen.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
+
+DEV=$(em7180_dir)
+ok "an em7180 IIO device is present" test -n "$DEV"
+client=$(basename "$(dirname "$(readlink -f "$DEV")")")
+bus=$(sim_bus)
+
+# field NAME: NAME's value in the JSON object on stdin (numbers, strings).
+field() {
+	python3 -c 'import json, sys
+v = json.loads(sys.stdin.read())[sys.argv[1]]
+print(" ".join(v) if isinstance(v, list) else v)' "$1"
+}
+
+# calibrate MODE PATTERN TIMEOUT [TOOL OPTIONS...]: a fresh (power-cycled)
+# chip, still until the tool has seen the gyro bias, then PATTERN. Sets
+# rc, out (stdout, JSON), err and last (the last object before the save).
+calibrate() {
+	local mode=$1 pattern=$2 timeout=$3
+	shift 3
+	knob motion 0
+	if [ "$mode" = driver ]; then
+		replug "$client" || return 1
+	else
+		knob power_cycle 1
+		wait_for 5 sim_ready
+		chip_run "$bus"
+	fi
+	knob gbias_period_ms 200
+	# Short enough that coverage, not time, is what calibration waits for.
+	knob cal_duration_ms 1000
+	rm -f /tmp/err
+	(
+		wait_for 10 grep -q "Gyro bias learned" /tmp/err
+		knob pattern "$pattern"
+	) &
+	out=$(sentral-warmstart "$@" calibrate --json --timeout "$timeout" \
+		--file "/tmp/$pattern.ws" 2>/tmp/err)
+	rc=$?
+	wait
+	knob motion 0
+	err=$(cat /tmp/err)
+	last=$(echo "$out" | grep -v '"event":"\(saved\|not_saved\)"' | tail -n 1)
+}
+
+# completes MODE PATTERN AGREE: a pattern that must complete, with at
+# least AGREE % of the tool's regions among those the chip saw.
+completes() {
+	local mode=$1 pattern=$2 agree=$3 secs cov moved
+	shift 3
+	calibrate "$mode" "$pattern" 40 "$@"
+	is "$mode, $pattern: exit 0" $rc 0
+	is "$mode, $pattern: ends with the complete event" "$(echo "$last" | field event)" complete
+	is "$mode, $pattern: status 3" "$(echo "$last" | field status)" 3
+	ok "$mode, $pattern: score at the target" \
+		awk -v s="$(echo "$last" | field score)" 'BEGIN { exit !(s <= 3.0) }'
+	is "$mode, $pattern: then saved" "$(echo "$out" | tail -n 1 | field event)" saved
+	ok "$mode, $pattern: the file is valid" sentral-warmstart show "/tmp/$pattern.ws"
+	like "$mode, $pattern: says what it did" "$err" \
+		"Calibration complete: score [0-9.]+%, [0-9]+% of the sphere covered.*saved .* to /tmp/$pattern.ws"
+	cov=$(echo "$last" | field coverage)
+	is "$mode, $pattern: from a sphere fit" "$(echo "$last" | field fit)" sphere
+	# The tool's map against the regions the chip has seen (same layout).
+	set -- $(python3 -c 'import sys
+tool, chip = sys.argv[1], sys.argv[2]
+both = sum(t == "1" and c == "1" for t, c in zip(tool, chip))
+print(tool.count("1"), chip.count("1"), both)' \
+		"$(echo "$last" | field regions)" "$(dbg_get coverage map)")
+	ok "$mode, $pattern: the map shows at least 40% of the sphere ($1 regions)" test "$1" -ge 40
+	ok "$mode, $pattern: $agree% of its regions were seen by the chip ($3 of $1)" \
+		test $(($3 * 100)) -ge $(($1 * agree))
+	# From the first update with the device moving, as its user sees it.
+	moved=$(echo "$out" | grep '"event":"progress"' |
+		grep -v '"samples":[01],' | head -n 1 | field elapsed_ms)
+	secs=$(awk -v e="$(echo "$last" | field elapsed_ms)" -v m="$moved" \
+		'BEGIN { printf "%.1f", (e - m) / 1000 }')
+	echo "# figure: $mode, $pattern: status 3 after $secs s of motion; the tool's map: $cov% of the sphere, $3 of its $1 regions among the chip's $2; $(echo "$last" | field samples) samples kept"
+}
+
+# check MODE: the spin, which must not complete and must say why.
+spin_times_out() {
+	local mode=$1 cov
+	shift
+	calibrate "$mode" spin 12 "$@"
+	is "$mode, spin: times out, exit 6" $rc 6
+	is "$mode, spin: the last event is a timeout" "$(echo "$last" | field event)" timeout
+	ok "$mode, spin: status below 3" test "$(echo "$last" | field status)" -lt 3
+	is "$mode, spin: the samples lie in a plane" "$(echo "$last" | field fit)" planar
+	like "$mode, spin: the hint names the missing motion" "$(echo "$last" | field hint)" \
+		"only turned about its Z axis: also tilt it nose up and down and roll it left and right"
+	like "$mode, spin: and so does the error" "$err" \
+		"did not complete within 12 s \(status [0-2] of 3, 0% of the sphere covered; it has only turned about its Z axis.*nothing saved"
+	nok "$mode, spin: nothing saved" test -e /tmp/spin.ws
+	cov=$(echo "$last" | field coverage)
+	echo "# figure: $mode, spin: no status 3 in 12 s (chip status $(echo "$last" | field status)), coverage $cov%"
+	# one object per update: 4 a second
+	ok "$mode, spin: about 4 updates a second ($(echo "$out" | wc -l) in 12 s)" \
+		test "$(echo "$out" | wc -l)" -ge 30
+}
+
+# A figure-8 is a user's motion; the sphere pattern is fast (300 dps, 10
+# samples per turn at the driver's 30 Hz) and its calibration moves the
+# output's centre 10 times in 3 s, which the tool's fit follows late.
+completes driver figure8 90
+completes driver sphere 50
+spin_times_out driver
+
+# i2c-dev: the magnetometer registers, read in one burst.
+ok "unbind the driver" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/unbind"
+completes i2c figure8 90 --i2c "/dev/i2c-$bus"
+spin_times_out i2c --i2c "/dev/i2c-$bus"
+is "transfer mode ended" "$(dbg_get state transfer)" 0
+ok "bind the driver again" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
+
+done_testing
