@@ -40,7 +40,7 @@ is "accel samples never read: all but the last missed" \
 set -- $(sim_rd 0x1a 8)
 is "accel = gravity (0, 0, 2048) + bias (-47, -15, 46)" \
 	"$(s16 $1 $2) $(s16 $3 $4) $(s16 $5 $6)" "-47 -15 2094"
-is "ATIME = floor(n * 32768 / 100) mod 65536" "$(s16 $7 $8)" \
+is "ATIME = floor(n * 32768 / 100) mod 65536" $(( $7 | $8 << 8 )) \
 	"$(( (accel * 32768 / 100) & 0xffff ))"
 is "reading the accel block counts as read" "$(dbg_get samples accel_read)" 1
 
