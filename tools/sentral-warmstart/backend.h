@@ -9,6 +9,7 @@
 #ifndef SW_BACKEND_H
 #define SW_BACKEND_H
 
+#include "devkey.h"
 #include "sw.h"
 
 struct sw_backend;
@@ -34,18 +35,22 @@ struct sw_backend_ops {
 	void (*close)(struct sw_backend *b);
 };
 
+/* Saved-file keys of older versions, moved to the new key once. */
+#define SW_NLEGACY 2
+
 struct sw_backend {
 	const struct sw_backend_ops *ops;
 	const char *kind;	/* "driver" or "i2c" */
-	char name[128];		/* "iio:device0" or "/dev/i2c-0 0x28" */
-	char key[128];		/* saved-file key, see sw_sanitize_key() */
+	char name[128];		/* "iio:device0" or "/dev/i2c-0@0x28" */
+	char key[SW_KEY_MAX];	/* saved-file key, see devkey.h */
+	/* "" when none; an old key shared by two chips is not listed */
+	char legacy_key[SW_NLEGACY][SW_KEY_MAX];
 };
-
-/* Keep [A-Za-z0-9._-], replace anything else by '_'; never empty. */
-void sw_sanitize_key(const char *in, char *out, size_t len);
 
 struct sw_iio_opts {
 	const char *device;	/* --device, NULL: the single em7180 */
+	/* No matching device is a success with *out = NULL (save --if-present). */
+	bool gone_ok;
 };
 
 int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,

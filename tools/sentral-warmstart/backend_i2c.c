@@ -13,6 +13,7 @@
  */
 #include <errno.h>
 #include <fcntl.h>
+#include <libudev.h>
 #include <i2c/smbus.h>
 #include <linux/i2c-dev.h>
 #include <linux/i2c.h>
@@ -20,6 +21,7 @@
 #include <string.h>
 #include <sys/ioctl.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -38,6 +40,9 @@
 #define REG_ROM_VERSION	0x70
 #define REG_PRODUCT_ID	0x90
 #define EM7180_PRODUCT_ID 0x80
+
+/* i2c-dev's character major (Documentation/admin-guide/devices.txt). */
+#define I2C_DEV_MAJOR	89
 
 /* Drivers in the wild allow up to 1 s for an acknowledge. */
 #define ACK_TIMEOUT_US	1000000
@@ -68,18 +73,10 @@ static void sleep_us(long us)
 }
 
 /*
- * SMBus-only adapters cannot do I2C_RDWR; fall back to libi2c's I2C block
- * transfers, which are single transactions as well.
+ * SMBus-only adapters cannot do I2C_RDWR: they fall back to libi2c's I2C
+ * block transfers, single transactions as well, to the address
+ * sw_i2c_open() selected on the descriptor.
  */
-static int smbus_select(int fd, unsigned int addr)
-{
-	if (ioctl(fd, I2C_SLAVE, addr) == 0)
-		return 0;
-	if (errno == EBUSY)
-		return ioctl(fd, I2C_SLAVE_FORCE, addr);
-	return -1;
-}
-
 /*
  * Combined write-register/read transfers through I2C_RDWR, atomic on the
  * bus, so that a driver bound anyway (--force) is not disturbed.
@@ -97,8 +94,6 @@ static int i2c_bus_read(int fd, unsigned int addr, uint8_t reg, uint8_t *buf,
 	if (ioctl(fd, I2C_RDWR, &xfer) == 2)
 		return 0;
 	if (errno != EOPNOTSUPP || len > I2C_SMBUS_BLOCK_MAX)
-		return -1;
-	if (smbus_select(fd, addr) < 0)
 		return -1;
 	if (i2c_smbus_read_i2c_block_data(fd, reg, (uint8_t)len, buf) !=
 	    (int)len) {
@@ -127,8 +122,6 @@ static int i2c_bus_write(int fd, unsigned int addr, uint8_t reg,
 	if (ioctl(fd, I2C_RDWR, &xfer) == 1)
 		return 0;
 	if (errno != EOPNOTSUPP)
-		return -1;
-	if (smbus_select(fd, addr) < 0)
 		return -1;
 	return i2c_smbus_write_i2c_block_data(fd, reg, (uint8_t)len, buf) < 0 ?
 	       -1 : 0;
@@ -161,6 +154,12 @@ static int bus_err(struct i2c_be *ib, const char *what, uint8_t reg,
 			  ib->b.name, what, reg, strerror(errno));
 }
 
+static int interrupted(struct i2c_be *ib, struct sw_err *e)
+{
+	return sw_err_set(e, SW_EXIT_IO, "%s: interrupted by %s",
+			  ib->b.name, strsignal(sw_signal_pending()));
+}
+
 /* Wait for ParamAcknowledge == req, then return SavedParamByte0..3. */
 static int param_wait_ack(struct i2c_be *ib, uint8_t req, uint8_t *val,
 			  struct sw_err *e)
@@ -183,6 +182,8 @@ static int param_wait_ack(struct i2c_be *ib, uint8_t req, uint8_t *val,
 				memcpy(val, buf + 1, 4);
 			return SW_EXIT_OK;
 		}
+		if (sw_signal_pending())
+			return interrupted(ib, e);
 		if (t > ACK_TIMEOUT_US)
 			return sw_err_set(e, SW_EXIT_IO,
 					  "%s: parameter %u not acknowledged within %d ms (ParamAcknowledge 0x%02x)",
@@ -193,6 +194,32 @@ static int param_wait_ack(struct i2c_be *ib, uint8_t req, uint8_t *val,
 }
 
 /*
+ * A write batch stopped at index i: say what the chip now holds. Parameter
+ * first + i may have been taken or not (a lost acknowledge); those before
+ * it were acknowledged, those after it were never sent.
+ */
+static void mixed_note(int first, int count, int i, struct sw_err *e)
+{
+	int last = first + count - 1, p = first + i;
+	char done[32] = "", rest[48] = "";
+
+	/* Nothing sent yet, or every parameter acknowledged. */
+	if (i < 0 || i >= count)
+		return;
+	if (p > first)
+		snprintf(done, sizeof(done), "%d-%d hold the new values, ",
+			 first, p - 1);
+	if (p < last)
+		snprintf(rest, sizeof(rest), ", %d-%d still the old ones",
+			 p + 1, last);
+	sw_err_append(e, "; parameters %s%d may or may not%s: %s",
+		      done, p, rest,
+		      p > first || p < last ?
+		      "the chip's calibration is mixed; run the same command again, or power-cycle the chip to start uncalibrated" :
+		      "run the same command again");
+}
+
+/*
  * Transfer count parameters first..first+count-1. vals holds 4 LE bytes
  * per parameter: the values to write (write) or the values read.
  */
@@ -200,7 +227,7 @@ static int param_batch(struct i2c_be *ib, int first, int count, bool write,
 		       uint8_t *vals, struct sw_err *e)
 {
 	uint8_t ac, v, zero = 0, burst[5];
-	int i, ret = SW_EXIT_OK;
+	int i = -1, ret = SW_EXIT_OK;	/* -1: no parameter sent yet */
 
 	if (i2c_bus_read(ib->fd, ib->addr, REG_ALGO_CTRL, &ac, 1) < 0)
 		return bus_err(ib, "reading", REG_ALGO_CTRL, e);
@@ -212,6 +239,11 @@ static int param_batch(struct i2c_be *ib, int first, int count, bool write,
 	for (i = 0; i < count; i++) {
 		uint8_t req = (uint8_t)(first + i);
 
+		/* A signal ends the batch here, never in the middle of a parameter. */
+		if (sw_signal_pending()) {
+			ret = interrupted(ib, e);
+			goto end;
+		}
 		if (write) {
 			req |= PARAM_WRITE;
 			memcpy(burst, vals + 4 * i, 4);
@@ -231,6 +263,8 @@ static int param_batch(struct i2c_be *ib, int first, int count, bool write,
 			goto end;
 	}
 end:
+	if (ret && write)
+		mixed_note(first, count, i, e);
 	/* Always leave transfer mode and let the algorithm run again. */
 	v = ac & (uint8_t)~ALGO_PARAM_PROC;
 	if (i2c_bus_write(ib->fd, ib->addr, REG_PARAM_REQ, &zero, 1) < 0)
@@ -256,6 +290,9 @@ static int i2c_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 	struct i2c_be *ib = to_i2c(b);
 	uint8_t st[2], sc[2];
 
+	/* Polling loops (calibrate) end here after a signal. */
+	if (sw_signal_pending())
+		return interrupted(ib, e);
 	if (i2c_bus_read(ib->fd, ib->addr, REG_CAL_STATUS, st, 2) < 0)
 		return bus_err(ib, "reading", REG_CAL_STATUS, e);
 	if (i2c_bus_read(ib->fd, ib->addr, REG_CAL_SCORE, sc, 2) < 0)
@@ -289,6 +326,8 @@ static int i2c_accel_raw(struct sw_backend *b, int xyz[3], struct sw_err *e)
 	uint8_t buf[6];
 	int i;
 
+	if (sw_signal_pending())
+		return interrupted(ib, e);
 	if (i2c_bus_read(ib->fd, ib->addr, REG_ACCEL, buf, 6) < 0)
 		return bus_err(ib, "reading", REG_ACCEL, e);
 	for (i = 0; i < 3; i++)
@@ -358,40 +397,83 @@ static const struct sw_backend_ops i2c_ops = {
 	.close = i2c_close,
 };
 
+/*
+ * The key of the chip on the adapter behind the i2c-dev node rdev: udev's
+ * ID_PATH of that node is there when the project's rule imported it.
+ */
+static int adapter_key(dev_t rdev, unsigned int addr, char *key, size_t len,
+		       struct sw_err *e)
+{
+	struct udev_device *node, *adap;
+	struct udev *u = udev_new();
+	int ret;
+
+	if (!u)
+		return sw_err_set(e, SW_EXIT_OSERR, "cannot use libudev: %s",
+				  strerror(errno));
+	node = udev_device_new_from_devnum(u, 'c', rdev);
+	adap = node ? udev_device_get_parent_with_subsystem_devtype(
+			      node, "i2c", "i2c_adapter") : NULL;
+	if (adap)
+		ret = sw_key_of_adapter(adap, addr,
+					udev_device_get_property_value(node, "ID_PATH"),
+					key, len, e);
+	else
+		ret = sw_err_set(e, SW_EXIT_DEVICE,
+				 "i2c-dev node %u:%u has no I2C adapter in sysfs",
+				 major(rdev), minor(rdev));
+	udev_device_unref(node);
+	udev_unref(u);
+	return ret;
+}
+
 int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
 		struct sw_err *e)
 {
-	char client[64], path[160];
+	char client[64];
 	unsigned int bus;
-	const char *base;
 	struct i2c_be *ib;
 	struct stat st;
 	uint8_t id;
-	int fd;
-
-	base = strrchr(o->dev, '/');
-	base = base ? base + 1 : o->dev;
-	if (sscanf(base, "i2c-%u", &bus) != 1)
-		return sw_err_set(e, SW_EXIT_USAGE,
-				  "--i2c %s: expected a device like /dev/i2c-0",
-				  o->dev);
-	snprintf(client, sizeof(client), "%u-%04x", bus, o->addr);
-
-	/*
-	 * Two masters of one chip would corrupt each other's parameter
-	 * transfers: leave a bound driver alone unless told otherwise.
-	 */
-	snprintf(path, sizeof(path), "/sys/bus/i2c/devices/%s/driver", client);
-	if (!o->force && lstat(path, &st) == 0)
-		return sw_err_set(e, SW_EXIT_DEVICE,
-				  "a kernel driver is bound to %s (0x%02x on %s); use the driver (omit --i2c), unbind it with 'echo %s > %s/unbind', or pass --force",
-				  client, o->addr, o->dev, client, path);
+	int fd, ret;
 
 	fd = open(o->dev, O_RDWR | O_CLOEXEC);
 	if (fd < 0)
 		return sw_err_set(e, errno == ENOENT ? SW_EXIT_DEVICE : SW_EXIT_IO,
 				  "%s: %s%s", o->dev, strerror(errno),
 				  errno == ENOENT ? " (is the i2c-dev module loaded?)" : "");
+	/* The node's own number, whatever it is called or links to. */
+	if (fstat(fd, &st) < 0 || !S_ISCHR(st.st_mode) ||
+	    major(st.st_rdev) != I2C_DEV_MAJOR) {
+		close(fd);
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "--i2c %s: not an i2c-dev character device (major %d)",
+				  o->dev, I2C_DEV_MAJOR);
+	}
+	bus = minor(st.st_rdev);
+	snprintf(client, sizeof(client), "%u-%04x", bus, o->addr);
+
+	/*
+	 * Two masters of one chip would corrupt each other's parameter
+	 * transfers. The kernel answers EBUSY when a driver is bound to the
+	 * address on this adapter or across a mux: leave it alone unless told
+	 * otherwise.
+	 */
+	if (ioctl(fd, I2C_SLAVE, o->addr) < 0) {
+		int err = errno;
+
+		if (err != EBUSY || !o->force ||
+		    ioctl(fd, I2C_SLAVE_FORCE, o->addr) < 0) {
+			close(fd);
+			if (err == EBUSY && !o->force)
+				return sw_err_set(e, SW_EXIT_DEVICE,
+						  "a kernel driver is bound to %s (0x%02x on %s); use the driver (omit --i2c), unbind it with 'echo %s > /sys/bus/i2c/devices/%s/driver/unbind', or pass --force",
+						  client, o->addr, o->dev, client,
+						  client);
+			return sw_err_set(e, SW_EXIT_IO, "%s: selecting 0x%02x: %s",
+					  o->dev, o->addr, strerror(errno));
+		}
+	}
 	if (i2c_bus_read(fd, o->addr, REG_PRODUCT_ID, &id, 1) < 0) {
 		int err = errno;
 
@@ -409,15 +491,23 @@ int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
 	ib = calloc(1, sizeof(*ib));
 	if (!ib) {
 		close(fd);
-		return sw_err_set(e, SW_EXIT_IO, "out of memory");
+		return sw_err_set(e, SW_EXIT_OSERR, "out of memory");
 	}
 	ib->b.ops = &i2c_ops;
 	ib->b.kind = "i2c";
 	snprintf(ib->b.name, sizeof(ib->b.name), "%s@0x%02x", o->dev, o->addr);
-	/* The kernel's name for the client, as the driver backend's fallback. */
-	sw_sanitize_key(client, ib->b.key, sizeof(ib->b.key));
+	ret = adapter_key(st.st_rdev, o->addr, ib->b.key, sizeof(ib->b.key), e);
+	if (ret) {
+		close(fd);
+		free(ib);
+		return ret;
+	}
+	/* Before 1.1 the key was the kernel's name of the client. */
+	sw_sanitize_key(client, ib->b.legacy_key[1], sizeof(ib->b.legacy_key[1]));
 	ib->fd = fd;
 	ib->addr = o->addr;
+	/* From here a signal must not leave the chip in transfer mode. */
+	sw_signals_catch();
 	*out = &ib->b;
 	return SW_EXIT_OK;
 }

@@ -10,6 +10,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <iio.h>
+#include <libudev.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,13 +19,13 @@
 #include "backend.h"
 
 #define IIO_SYSFS "/sys/bus/iio/devices"
-#define UDEV_DB "/run/udev/data"
 
 struct iio_be {
 	struct sw_backend b;
 	char dir[PATH_MAX];	/* /sys/bus/iio/devices/iio:deviceN */
 	char parent[64];	/* the I2C client, e.g. "0-0028" */
 	double magn_ut;		/* in_magn_scale in uT per LSB, 0: not read yet */
+	char id_path[256];	/* udev's ID_PATH, "" when none */
 };
 
 /* Copy with truncation; the callers' buffers are far larger than the data. */
@@ -39,28 +40,6 @@ static void copy_str(char *dst, size_t len, const char *src)
 static struct iio_be *to_iio(struct sw_backend *b)
 {
 	return (struct iio_be *)b;
-}
-
-void sw_sanitize_key(const char *in, char *out, size_t len)
-{
-	size_t i;
-
-	for (i = 0; in[i] && i + 1 < len; i++) {
-		char c = in[i];
-		bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
-			  (c >= '0' && c <= '9') || c == '.' || c == '_' ||
-			  c == '-';
-
-		out[i] = ok ? c : '_';
-	}
-	out[i] = '\0';
-	/* Never an empty name, never a hidden file or "." / "..". */
-	if (!out[0] || out[0] == '.') {
-		if (len > 1 && out[0] == '.')
-			out[0] = '_';
-		else
-			snprintf(out, len, "unknown");
-	}
 }
 
 static int read_text(const char *path, char *buf, size_t len)
@@ -185,8 +164,7 @@ static int iio_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 			 struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
-	char buf[64], *end;
-	double pct;
+	char buf[64];
 	int ret;
 
 	ret = attr_read_int(ib, "in_magn_calibration_auto_status", &cs->status,
@@ -201,13 +179,11 @@ static int iio_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 				    sizeof(buf), e);
 	if (ret)
 		return ret;
-	pct = strtod(buf, &end);
-	if (end == buf || *end)
-		return sw_err_set(e, SW_EXIT_IO,
-				  "%s: in_magn_calibration_score: unexpected value \"%s\"",
-				  b->name, buf);
 	/* 3 decimals resolve the 100/32768 % steps: the raw value is exact. */
-	cs->score_raw = sw_score_raw(pct);
+	if (!sw_parse_score(buf, &cs->score_raw))
+		return sw_err_set(e, SW_EXIT_IO,
+				  "%s: in_magn_calibration_score: unexpected value \"%s\" (not a percentage from -100 to 100)",
+				  b->name, buf);
 	return SW_EXIT_OK;
 }
 
@@ -361,84 +337,66 @@ static const struct sw_backend_ops iio_ops = {
 	.close = iio_close,
 };
 
-/* ID_PATH from the udev database entry of the device's character node. */
-static bool udev_id_path(const char *dir, char *out, size_t len)
+/*
+ * The udev view of an IIO device: from the environment when udev runs us
+ * for this very device (its database entry is written only after the
+ * event), else from sysfs and udev's database.
+ */
+static struct udev_device *udev_view(struct udev *u, const char *syspath)
 {
-	char path[PATH_MAX + 8], devno[32], line[512];
-	bool found = false;
-	FILE *f;
+	const char *devpath = getenv("DEVPATH");
+	char evpath[PATH_MAX];
 
-	snprintf(path, sizeof(path), "%s/dev", dir);
-	if (read_text(path, devno, sizeof(devno)) < 0)
-		return false;
-	snprintf(path, sizeof(path), UDEV_DB "/c%s", devno);
-	f = fopen(path, "re");
-	if (!f)
-		return false;
-	while (!found && fgets(line, sizeof(line), f)) {
-		if (strncmp(line, "E:ID_PATH=", 10))
-			continue;
-		line[strcspn(line, "\n")] = '\0';
-		if (line[10]) {
-			copy_str(out, len, line + 10);
-			found = true;
-		}
-	}
-	fclose(f);
-	return found;
+	if (devpath && getenv("ACTION") && getenv("SUBSYSTEM") &&
+	    snprintf(evpath, sizeof(evpath), "/sys%s", devpath) < (int)sizeof(evpath) &&
+	    !strcmp(evpath, syspath))
+		return udev_device_new_from_environment(u);
+	return udev_device_new_from_syspath(u, syspath);
 }
 
 /*
- * The key names the saved file. udev's ID_PATH is stable across
- * iio:deviceN renumbering and boots: take it from the environment when
- * udev runs us for this very device, else from udev's database; without
- * udev fall back to the I2C client's name ("0-0028").
+ * Key, client name and ID_PATH of an em7180 IIO device (see devkey.h).
+ * Without an I2C client (not expected of em7180_i2c) the key is the
+ * device's own name.
  */
-static void device_key(const char *id, const char *dir, const char *parent,
-		       char *key, size_t len)
+static int device_key(struct udev *u, struct iio_be *ib, struct sw_err *e)
 {
-	const char *env_path = getenv("ID_PATH");
-	const char *devpath = getenv("DEVPATH");
-	char idpath[256];
-	size_t dl, il = strlen(id);
+	struct udev_device *dev, *client;
+	char syspath[PATH_MAX];
+	const char *idp;
+	int ret = SW_EXIT_OK;
 
-	if (env_path && *env_path && devpath &&
-	    (dl = strlen(devpath)) > il && devpath[dl - il - 1] == '/' &&
-	    !strcmp(devpath + dl - il, id)) {
-		sw_sanitize_key(env_path, key, len);
-		return;
+	if (!realpath(ib->dir, syspath) || !(dev = udev_view(u, syspath)))
+		return sw_err_set(e, SW_EXIT_DEVICE, "%s: cannot look it up in sysfs: %s",
+				  ib->b.name, strerror(errno));
+	idp = udev_device_get_property_value(dev, "ID_PATH");
+	copy_str(ib->id_path, sizeof(ib->id_path), idp ? idp : "");
+	client = udev_device_get_parent_with_subsystem_devtype(dev, "i2c",
+							       "i2c_client");
+	if (client) {
+		copy_str(ib->parent, sizeof(ib->parent),
+			 udev_device_get_sysname(client));
+		ret = sw_key_of_client(client, ib->id_path, ib->b.key,
+				       sizeof(ib->b.key), e);
+	} else {
+		sw_sanitize_key(ib->b.name, ib->b.key, sizeof(ib->b.key));
 	}
-	if (udev_id_path(dir, idpath, sizeof(idpath))) {
-		sw_sanitize_key(idpath, key, len);
-		return;
-	}
-	sw_sanitize_key(parent, key, len);
-}
-
-static void parent_name(const char *dir, char *out, size_t len)
-{
-	char link[PATH_MAX], *p;
-	ssize_t n;
-
-	out[0] = '\0';
-	n = readlink(dir, link, sizeof(link) - 1);
-	if (n <= 0)
-		return;
-	link[n] = '\0';
-	/* .../i2c-0/0-0028/iio:device0 -> 0-0028 */
-	p = strrchr(link, '/');
-	if (!p)
-		return;
-	*p = '\0';
-	p = strrchr(link, '/');
-	copy_str(out, len, p ? p + 1 : link);
+	udev_device_unref(dev);
+	/* What versions before 1.1 named the file: ID_PATH, else the client. */
+	if (ib->id_path[0])
+		sw_sanitize_key(ib->id_path, ib->b.legacy_key[0],
+				sizeof(ib->b.legacy_key[0]));
+	if (ib->parent[0])
+		sw_sanitize_key(ib->parent, ib->b.legacy_key[1],
+				sizeof(ib->b.legacy_key[1]));
+	return ret;
 }
 
 static bool device_matches(const char *want, const struct iio_device *dev,
 			   const struct iio_be *cand)
 {
 	const char *label = iio_device_get_label(dev);
-	char sane[128];
+	char sane[SW_KEY_MAX];
 
 	if (!want)
 		return true;
@@ -450,14 +408,49 @@ static bool device_matches(const char *want, const struct iio_device *dev,
 	       !strcmp(sane, cand->b.key);
 }
 
+/*
+ * Before 1.1, chips on one controller shared its ID_PATH as their key:
+ * such a file belongs to none of them in particular, so it is not
+ * migrated when another em7180 has the same ID_PATH.
+ */
+static void drop_shared_legacy(struct udev *u, struct iio_context *ctx,
+			       struct iio_be *found)
+{
+	unsigned int i, n = iio_context_get_devices_count(ctx), same = 0;
+
+	if (!found->id_path[0])
+		return;
+	for (i = 0; i < n; i++) {
+		const struct iio_device *dev = iio_context_get_device(ctx, i);
+		const char *name = iio_device_get_name(dev), *idp;
+		char dir[PATH_MAX], syspath[PATH_MAX];
+		struct udev_device *ud;
+
+		if (!name || strcmp(name, "em7180"))
+			continue;
+		snprintf(dir, sizeof(dir), IIO_SYSFS "/%s", iio_device_get_id(dev));
+		if (!realpath(dir, syspath) || !(ud = udev_view(u, syspath)))
+			continue;
+		idp = udev_device_get_property_value(ud, "ID_PATH");
+		if (idp && !strcmp(idp, found->id_path))
+			same++;
+		udev_device_unref(ud);
+	}
+	if (same > 1)
+		found->b.legacy_key[0][0] = '\0';
+}
+
 int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 		struct sw_err *e)
 {
 	struct iio_be *found = NULL;
 	struct iio_context *ctx;
+	struct udev *u;
 	char list[512] = "";
 	unsigned int i, n, matches = 0;
+	int ret = SW_EXIT_OK;
 
+	*out = NULL;
 	ctx = iio_create_local_context();
 	if (!ctx && errno == ENOENT)
 		return sw_err_set(e, SW_EXIT_DEVICE,
@@ -465,8 +458,14 @@ int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 	if (!ctx)
 		return sw_err_set(e, SW_EXIT_DEVICE,
 				  "cannot scan IIO devices: %s", strerror(errno));
+	u = udev_new();
+	if (!u) {
+		iio_context_destroy(ctx);
+		return sw_err_set(e, SW_EXIT_OSERR, "cannot use libudev: %s",
+				  strerror(errno));
+	}
 	n = iio_context_get_devices_count(ctx);
-	for (i = 0; i < n; i++) {
+	for (i = 0; i < n && !ret; i++) {
 		const struct iio_device *dev = iio_context_get_device(ctx, i);
 		const char *name = iio_device_get_name(dev);
 		const char *id = iio_device_get_id(dev);
@@ -476,18 +475,15 @@ int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 			continue;
 		cand = calloc(1, sizeof(*cand));
 		if (!cand) {
-			iio_context_destroy(ctx);
-			free(found);
-			return sw_err_set(e, SW_EXIT_IO, "out of memory");
+			ret = sw_err_set(e, SW_EXIT_OSERR, "out of memory");
+			break;
 		}
 		cand->b.ops = &iio_ops;
 		cand->b.kind = "driver";
 		snprintf(cand->b.name, sizeof(cand->b.name), "%s", id);
 		snprintf(cand->dir, sizeof(cand->dir), IIO_SYSFS "/%s", id);
-		parent_name(cand->dir, cand->parent, sizeof(cand->parent));
-		device_key(id, cand->dir, cand->parent, cand->b.key,
-			   sizeof(cand->b.key));
-		if (!device_matches(o->device, dev, cand)) {
+		ret = device_key(u, cand, e);
+		if (ret || !device_matches(o->device, dev, cand)) {
 			free(cand);
 			continue;
 		}
@@ -500,7 +496,16 @@ int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 		else
 			found = cand;
 	}
+	if (!ret && matches == 1)
+		drop_shared_legacy(u, ctx, found);
+	udev_unref(u);
 	iio_context_destroy(ctx);
+	if (ret || matches != 1)
+		free(found);
+	if (ret)
+		return ret;
+	if (!matches && o->gone_ok)
+		return SW_EXIT_OK;
 	if (!matches) {
 		if (o->device)
 			return sw_err_set(e, SW_EXIT_DEVICE,
@@ -509,12 +514,10 @@ int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 		return sw_err_set(e, SW_EXIT_DEVICE,
 				  "no em7180 IIO device found (is the em7180_i2c driver loaded and bound? without a driver use --i2c)");
 	}
-	if (matches > 1) {
-		free(found);
+	if (matches > 1)
 		return sw_err_set(e, SW_EXIT_DEVICE,
 				  "%u em7180 devices found: %s; choose one with --device",
 				  matches, list);
-	}
 	*out = &found->b;
 	return SW_EXIT_OK;
 }

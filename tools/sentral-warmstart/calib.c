@@ -3,6 +3,7 @@
  * sentral-warmstart: the seed app note's calibration procedures, guided.
  */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -295,6 +296,11 @@ static int accel_measure(struct sw_backend *b, unsigned int n,
 		if (ret)
 			return ret;
 		for (k = 0; k < 3; k++) {
+			/* The output registers are 16 bits wide. */
+			if (xyz[k] < INT16_MIN || xyz[k] > INT16_MAX)
+				return sw_err_set(e, SW_EXIT_IO,
+						  "%s: accelerometer %c reads %d LSB, out of range for a 16-bit output",
+						  b->name, 'x' + k, xyz[k]);
 			sum[k] += xyz[k];
 			sq[k] += (double)xyz[k] * xyz[k];
 		}
@@ -328,7 +334,15 @@ int sw_cmd_accel_cal(struct sw_backend *b, const struct sw_opts *o,
 	sw_note(env, "Place the device flat, Z axis facing down, and keep it still; averaging %u samples...",
 		o->samples);
 	ret = b->ops->accel_offset_get(b, old, e);
-	ret = ret ? ret : accel_measure(b, o->samples, env, &st, e);
+	if (ret)
+		return ret;
+	/* calibbias takes 16-bit values: anything else did not come from there. */
+	for (k = 0; k < 3; k++)
+		if (old[k] < INT16_MIN || old[k] > INT16_MAX)
+			return sw_err_set(e, SW_EXIT_IO,
+					  "%s: the current accel %c offset reads %d LSB, out of range (-32768..32767); not calibrating",
+					  b->name, 'x' + k, old[k]);
+	ret = accel_measure(b, o->samples, env, &st, e);
 	if (ret)
 		return ret;
 	for (k = 0; k < 3; k++) {

@@ -26,6 +26,7 @@ enum {
 	OPT_TARGET_SCORE,
 	OPT_TIMEOUT,
 	OPT_SAMPLES,
+	OPT_UDEV,
 };
 
 static const struct option long_opts[] = {
@@ -41,6 +42,7 @@ static const struct option long_opts[] = {
 	{ "target-score", required_argument, NULL, OPT_TARGET_SCORE },
 	{ "timeout", required_argument, NULL, OPT_TIMEOUT },
 	{ "samples", required_argument, NULL, OPT_SAMPLES },
+	{ "udev", no_argument, NULL, OPT_UDEV },
 	{ "help", no_argument, NULL, OPT_HELP },
 	{ "version", no_argument, NULL, OPT_VERSION },
 	{ NULL, 0, NULL, 0 },
@@ -56,6 +58,7 @@ static const struct {
 	{ "calibrate", SW_CMD_CALIBRATE },
 	{ "accel-cal", SW_CMD_ACCEL_CAL },
 	{ "show", SW_CMD_SHOW },
+	{ "key", SW_CMD_KEY },
 };
 
 void sw_usage(FILE *f)
@@ -67,7 +70,7 @@ void sw_usage(FILE *f)
 	      "\n"
 	      "Commands:\n"
 	      "  status [--json] [--file F]      calibration state of the chip and its saved file\n"
-	      "  save [--file F] [--force] [--max-score S]\n"
+	      "  save [--file F] [--force] [--max-score S] [--if-present]\n"
 	      "                                  save the calibration if the save policy allows\n"
 	      "  restore [--file F] [--if-present] [--force]\n"
 	      "                                  write the saved calibration back to the chip\n"
@@ -76,6 +79,7 @@ void sw_usage(FILE *f)
 	      "                                  directions covered, then save\n"
 	      "  accel-cal [--samples N]         one-point accelerometer calibration (Z down)\n"
 	      "  show FILE                       decode and check a saved file\n"
+	      "  key [--udev]                    print the chip's key (names its file and units)\n"
 	      "\n"
 	      "Options:\n"
 	      "  -d, --device NAME     em7180 IIO device: iio:deviceN, label, I2C client name\n"
@@ -86,8 +90,10 @@ void sw_usage(FILE *f)
 	      "  -f, --file F          saved file (default DIR/KEY.ws)\n"
 	      "      --force           save a worse calibration, restore a file made for\n"
 	      "                        another chip version, use --i2c with a driver bound\n"
-	      "      --if-present      restore: a missing file is not an error\n"
+	      "      --if-present      restore: a missing file is not an error;\n"
+	      "                        save: a device that is gone is not an error\n"
 	      "      --json            status, calibrate: machine-readable output\n"
+	      "      --udev            key: udev properties for IMPORT{program}\n"
 	      "      --max-score S     acceptable score in percent (default 5.0)\n"
 	      "      --target-score S  calibrate: stop at this score (default 3.0)\n"
 	      "      --timeout SEC     calibrate: give up after SEC seconds (default 120)\n"
@@ -95,10 +101,12 @@ void sw_usage(FILE *f)
 	      "  -h, --help            this help\n"
 	      "  -V, --version         print the version\n"
 	      "\n"
-	      "Exit status:\n"
-	      "  0 success   1 usage error   2 no, several or unusable device\n"
-	      "  3 saved file missing or refused   4 save refused by the policy\n"
-	      "  5 I/O or bus error   6 calibration incomplete, timed out or unverified\n"
+	      "Exit status (sysexits.h; the save policy saying no is a success):\n"
+	      "  0 success   64 usage error   65 saved file refused by a check\n"
+	      "  66 saved file missing   69 no, several or unusable device\n"
+	      "  71 out of memory   72 state directory missing   74 I/O or bus error\n"
+	      "  75 calibration incomplete, timed out or unverified\n"
+	      "  77 refused: owner, mode or symbolic link of a file or directory\n"
 	      "\n"
 	      "See sentral-warmstart(8).\n", f);
 }
@@ -191,7 +199,9 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 	} rules[] = {
 		{ OPT_JSON, "--json", 1u << SW_CMD_STATUS |
 				      1u << SW_CMD_CALIBRATE },
-		{ OPT_IF_PRESENT, "--if-present", 1u << SW_CMD_RESTORE },
+		{ OPT_IF_PRESENT, "--if-present", 1u << SW_CMD_RESTORE |
+						    1u << SW_CMD_SAVE },
+		{ OPT_UDEV, "--udev", 1u << SW_CMD_KEY },
 		{ OPT_FILE, "--file", 1u << SW_CMD_SAVE | 1u << SW_CMD_RESTORE |
 					1u << SW_CMD_CALIBRATE |
 					1u << SW_CMD_STATUS },
@@ -245,7 +255,7 @@ static int operand(const char *arg, struct sw_opts *o, const char **show_file,
 
 int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 {
-	bool seen[OPT_SAMPLES + 1] = { false };
+	bool seen[OPT_UDEV + 1] = { false };
 	const char *show_file = NULL;
 	int c, next, ret;
 
@@ -289,7 +299,7 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 				return ret;
 			continue;
 		}
-		if (c > 0 && c <= OPT_SAMPLES)
+		if (c > 0 && c <= OPT_UDEV)
 			seen[c] = true;
 		ret = SW_EXIT_OK;
 		switch (c) {
@@ -317,6 +327,9 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 			break;
 		case OPT_JSON:
 			o->json = true;
+			break;
+		case OPT_UDEV:
+			o->udev = true;
 			break;
 		case OPT_MAX_SCORE:
 			ret = parse_double("--max-score", optarg, 0, 100,
@@ -368,6 +381,9 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 	}
 	if (!*o->state_dir)
 		return sw_err_set(e, SW_EXIT_USAGE, "--state-dir is empty");
+	if (o->udev && o->i2c_dev)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "key --udev names an IIO device, not an --i2c one");
 	if (o->file && !*o->file)
 		return sw_err_set(e, SW_EXIT_USAGE, "--file is empty");
 	return SW_EXIT_OK;

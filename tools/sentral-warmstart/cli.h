@@ -15,6 +15,7 @@ enum sw_command {
 	SW_CMD_CALIBRATE,
 	SW_CMD_ACCEL_CAL,
 	SW_CMD_SHOW,
+	SW_CMD_KEY,
 };
 
 struct sw_opts {
@@ -27,6 +28,7 @@ struct sw_opts {
 	bool force;
 	bool if_present;
 	bool json;
+	bool udev;		/* key: print udev properties */
 	double max_score;	/* --max-score, percent */
 	double target_score;	/* --target-score, percent */
 	unsigned int timeout_s;	/* --timeout */

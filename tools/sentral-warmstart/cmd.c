@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <stdarg.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -129,11 +130,12 @@ static enum sw_read_mode read_mode(const struct sw_opts *o)
  * Load the existing file at path, if any. Returns SW_EXIT_OK with
  * *have = true and *f filled when it is valid and made for this chip;
  * SW_EXIT_OK with *have = false when it is missing or not usable (why
- * says which); an error only when it must not be touched at all.
+ * says which); an error only when it must not be touched at all. errno_out
+ * receives the errno of a failed open.
  */
 static int load_existing(const struct sw_opts *o, const char *path,
 			 const struct sw_chip_info *chip, struct sw_file *f,
-			 bool *have, char *why, size_t why_len,
+			 bool *have, char *why, size_t why_len, int *errno_out,
 			 struct sw_err *e)
 {
 	uint8_t buf[SW_FILE_MAX_READ + 1];
@@ -141,16 +143,16 @@ static int load_existing(const struct sw_opts *o, const char *path,
 	struct sw_err rerr;
 	char detail[160];
 	size_t len;
-	int err;
+	int ret;
 
 	*have = false;
 	why[0] = '\0';
 	sw_err_clear(&rerr);
-	if (sw_file_read(path, read_mode(o), buf, &len, &err, &rerr)) {
-		if (err == ENOENT)
-			return SW_EXIT_OK;
+	ret = sw_file_read(path, read_mode(o), buf, &len, errno_out, &rerr);
+	if (ret == SW_EXIT_NOFILE)
+		return SW_EXIT_OK;
+	if (ret)
 		return sw_err_set(e, rerr.code, "%s", rerr.msg);
-	}
 	c = sw_file_decode(buf, len, f, detail, sizeof(detail));
 	if (c == SW_CHECK_OK && chip)
 		c = sw_file_match_chip(f, chip, detail, sizeof(detail));
@@ -160,6 +162,57 @@ static int load_existing(const struct sw_opts *o, const char *path,
 	}
 	*have = true;
 	return SW_EXIT_OK;
+}
+
+static bool exists(const char *path)
+{
+	struct stat st;
+
+	return lstat(path, &st) == 0;
+}
+
+/* STATE_DIR/KEY.ws for a legacy key, or false when there is none. */
+static bool legacy_path(const struct sw_opts *o, const struct sw_backend *b,
+			int i, char *out, size_t len)
+{
+	const char *k = b->legacy_key[i];
+
+	if (!k[0] || !strcmp(k, b->key))
+		return false;
+	snprintf(out, len, "%s/%s.ws", o->state_dir, k);
+	return exists(out);
+}
+
+/*
+ * Before 1.1 the key was udev's ID_PATH or the I2C client's name: move a
+ * file saved under one of those to the new key, once. Only the commands
+ * that write the state directory do; a failure is reported and the file
+ * is left where it is (it cannot be lost).
+ */
+static void migrate_legacy(const struct sw_backend *b, const struct sw_opts *o,
+			   struct sw_env *env)
+{
+	char path[4096], old[4096];
+	struct sw_err me;
+	int i;
+
+	if (o->file)
+		return;
+	sw_file_path(o, b, path, sizeof(path));
+	if (exists(path))
+		return;
+	for (i = 0; i < SW_NLEGACY; i++) {
+		if (!legacy_path(o, b, i, old, sizeof(old)))
+			continue;
+		sw_err_clear(&me);
+		if (sw_file_rename(old, path, false, &me))
+			sw_note(env, "warning: not migrating %s to %s: %s", old,
+				path, me.msg);
+		else
+			sw_note(env, "migrated %s to %s (the key of %s is now %s)",
+				old, path, b->name, b->key);
+		return;
+	}
 }
 
 int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
@@ -176,14 +229,19 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 	ret = b->ops->chip_info(b, &nf.chip, e);
 	if (ret)
 		return ret;
+	if (!sw_cal_state_check(cs, why, sizeof(why)))
+		return sw_err_set(e, SW_EXIT_IO,
+				  "%s: %s, read from the chip: not saving",
+				  b->name, why);
 	bad = sw_blob_nonfinite(blob);
 	if (bad)
 		return sw_err_set(e, SW_EXIT_IO,
 				  "%s: parameter %d (%s) read from the chip is not a finite number; not saving",
 				  b->name, bad, sw_param_name(bad));
+	migrate_legacy(b, o, env);
 	sw_file_path(o, b, path, sizeof(path));
 	ret = load_existing(o, path, &nf.chip, &old, &pin.have_old, oldwhy,
-			    sizeof(oldwhy), e);
+			    sizeof(oldwhy), NULL, e);
 	if (ret)
 		return ret;
 
@@ -193,9 +251,12 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 	pin.old_status = old.cal_status;
 	pin.old_score_raw = old.score_raw;
 	pin.force = o->force;
-	if (!sw_policy_save(&pin, why, sizeof(why)))
-		return sw_err_set(e, SW_EXIT_POLICY, "not saving %s: %s",
-				  path, why);
+	/* The policy saying no is the policy working: not a failure. */
+	if (!sw_policy_save(&pin, why, sizeof(why))) {
+		sw_note(env, "not saving %s calibration to %s: %s", b->name,
+			path, why);
+		return SW_EXIT_OK;
+	}
 	if (oldwhy[0])
 		sw_note(env, "replacing unusable %s: %s", path, oldwhy);
 
@@ -218,11 +279,19 @@ int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
 	uint8_t blob[SW_BLOB_SIZE];
 	int ret;
 
+	char why[160];
+	int i;
+
 	ret = b->ops->cal_state(b, &before, e);
 	ret = ret ? ret : b->ops->read_blob(b, blob, e);
 	ret = ret ? ret : b->ops->cal_state(b, &after, e);
 	if (ret)
 		return ret;
+	for (i = 0; i < 2; i++)
+		if (!sw_cal_state_check(i ? &after : &before, why, sizeof(why)))
+			return sw_err_set(e, SW_EXIT_IO,
+					  "%s: %s, read from the chip: not saving",
+					  b->name, why);
 	/*
 	 * The blob must be judged by the state it was taken in: if the
 	 * calibration changed under the read, judge by the worse of the two.
@@ -234,6 +303,28 @@ int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
 	return sw_save_snapshot(b, o, env, &before, blob, e);
 }
 
+/*
+ * A state file that failed a check is kept for inspection under
+ * KEY.ws.refused (replacing an older one), so that the next save can write
+ * a good calibration in its place. A --file file is the user's: left alone.
+ */
+static void set_aside(const struct sw_opts *o, const char *path,
+		      char *note, size_t len)
+{
+	char aside[4200];
+	struct sw_err me;
+
+	note[0] = '\0';
+	if (o->file)
+		return;
+	snprintf(aside, sizeof(aside), "%s.refused", path);
+	sw_err_clear(&me);
+	if (sw_file_rename(path, aside, true, &me))
+		snprintf(note, len, "; could not move it aside: %s", me.msg);
+	else
+		snprintf(note, len, "; moved aside to %s for inspection", aside);
+}
+
 int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 		   struct sw_env *env, struct sw_err *e)
 {
@@ -242,40 +333,45 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 	struct sw_cal_state cs;
 	enum sw_file_check c;
 	struct sw_err rerr;
-	char path[4096], detail[160];
+	char path[4096], detail[160], aside[4400];
 	struct sw_file f;
 	uint64_t start;
 	size_t len;
-	int err, ret;
+	int ret;
 
+	migrate_legacy(b, o, env);
 	sw_file_path(o, b, path, sizeof(path));
 	sw_err_clear(&rerr);
-	if (sw_file_read(path, read_mode(o), buf, &len, &err, &rerr)) {
-		if (err == ENOENT && o->if_present) {
-			sw_note(env, "no saved calibration for %s (%s); nothing to restore",
-				b->name, path);
-			return SW_EXIT_OK;
-		}
-		if (err == ENOENT)
-			return sw_err_set(e, SW_EXIT_FILE,
-					  "no saved calibration for %s: %s does not exist",
-					  b->name, path);
-		return sw_err_set(e, rerr.code, "%s", rerr.msg);
+	ret = sw_file_read(path, read_mode(o), buf, &len, NULL, &rerr);
+	if (ret == SW_EXIT_NOFILE && o->if_present) {
+		sw_note(env, "no saved calibration for %s (%s); nothing to restore",
+			b->name, path);
+		return SW_EXIT_OK;
 	}
+	if (ret == SW_EXIT_NOFILE)
+		return sw_err_set(e, SW_EXIT_NOFILE,
+				  "no saved calibration for %s: %s does not exist",
+				  b->name, path);
+	if (ret)
+		return sw_err_set(e, rerr.code, "%s", rerr.msg);
 	c = sw_file_decode(buf, len, &f, detail, sizeof(detail));
-	if (c != SW_CHECK_OK)
+	if (c != SW_CHECK_OK) {
+		set_aside(o, path, aside, sizeof(aside));
 		return sw_err_set(e, SW_EXIT_FILE,
-				  "%s: refused: %s (%s); the chip was not touched",
-				  path, sw_check_name(c), detail);
+				  "%s: refused: %s (%s); the chip was not touched%s",
+				  path, sw_check_name(c), detail, aside);
+	}
 	ret = b->ops->chip_info(b, &chip, e);
 	if (ret)
 		return ret;
 	c = sw_file_match_chip(&f, &chip, detail, sizeof(detail));
 	if (c != SW_CHECK_OK) {
-		if (!o->force)
+		if (!o->force) {
+			set_aside(o, path, aside, sizeof(aside));
 			return sw_err_set(e, SW_EXIT_FILE,
-					  "%s: refused: %s (%s); the chip was not touched (--force restores anyway)",
-					  path, sw_check_name(c), detail);
+					  "%s: refused: %s (%s); the chip was not touched (--force restores anyway)%s",
+					  path, sw_check_name(c), detail, aside);
+		}
 		sw_note(env, "warning: %s: %s (%s); restoring anyway (--force)",
 			path, sw_check_name(c), detail);
 	}
@@ -324,12 +420,12 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 {
 	struct sw_chip_info chip;
 	struct sw_cal_state cs;
-	struct sw_err cerr;
+	struct sw_err cerr, ferr;
 	struct sw_file f;
-	char path[4096], why[256], when[40];
+	char path[4096], old[4096], why[4400], when[40];
 	bool have_chip, have_file;
 	FILE *out = env->out;
-	int ret;
+	int ret, err = 0;
 
 	ret = b->ops->cal_state(b, &cs, e);
 	if (ret)
@@ -337,10 +433,27 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 	sw_err_clear(&cerr);
 	have_chip = b->ops->chip_info(b, &chip, &cerr) == SW_EXIT_OK;
 	sw_file_path(o, b, path, sizeof(path));
+	sw_err_clear(&ferr);
 	ret = load_existing(o, path, have_chip ? &chip : NULL, &f, &have_file,
-			    why, sizeof(why), e);
+			    why, sizeof(why), &err, &ferr);
+	/*
+	 * The chip's attributes are world-readable, the state directory is
+	 * root's: a user still sees the chip's part. Root is told of a state
+	 * file it must not trust (exit status).
+	 */
+	if (ret && geteuid() != 0 &&
+	    (ret == SW_EXIT_PERM || err == EACCES)) {
+		snprintf(why, sizeof(why), "needs root to read (%s)", ferr.msg);
+		ret = SW_EXIT_OK;
+	}
 	if (ret)
-		return ret;
+		return sw_err_set(e, ret, "%s", ferr.msg);
+	if (!have_file && !why[0] && !o->file &&
+	    (legacy_path(o, b, 0, old, sizeof(old)) ||
+	     legacy_path(o, b, 1, old, sizeof(old))))
+		snprintf(why, sizeof(why),
+			 "none yet; %s (saved under an older key) moves here at the next restore or save",
+			 old);
 	if (!have_file && !why[0])
 		snprintf(why, sizeof(why), "no saved calibration yet");
 	if (have_file)
@@ -391,6 +504,25 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 			path, f.cal_status, sw_score_pct(f.score_raw), when);
 	else
 		fprintf(out, "saved file:          %s: %s\n", path, why);
+	return SW_EXIT_OK;
+}
+
+int sw_cmd_key(struct sw_backend *b, const struct sw_opts *o,
+	       struct sw_env *env, struct sw_err *e)
+{
+	char unit[SW_KEY_MAX * 4];
+
+	if (!o->udev) {
+		fprintf(env->out, "%s\n", b->key);
+		return SW_EXIT_OK;
+	}
+	if (!sw_key_unit_escape(b->key, unit, sizeof(unit)) ||
+	    strlen(unit) > 255 - strlen("sentral-warmstart-restore@.service"))
+		return sw_err_set(e, SW_EXIT_DEVICE,
+				  "%s: key %s is too long for a systemd unit name",
+				  b->name, b->key);
+	fprintf(env->out, "SENTRAL_WARMSTART_KEY=%s\nSENTRAL_WARMSTART_UNIT=%s\n",
+		b->key, unit);
 	return SW_EXIT_OK;
 }
 

@@ -46,6 +46,12 @@ int sw_cmd_show(const struct sw_opts *o, struct sw_env *env,
 		struct sw_err *e);
 int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, struct sw_err *e);
+/*
+ * The chip's key; with --udev the udev properties SENTRAL_WARMSTART_KEY and
+ * SENTRAL_WARMSTART_UNIT (the key escaped as a unit instance name).
+ */
+int sw_cmd_key(struct sw_backend *b, const struct sw_opts *o,
+	       struct sw_env *env, struct sw_err *e);
 int sw_cmd_accel_cal(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, struct sw_err *e);
 

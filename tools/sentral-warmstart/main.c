@@ -3,6 +3,7 @@
  * sentral-warmstart: save and restore the warm-start calibration of a
  * PNI SENtral / EM7180 sensor-fusion hub. See sentral-warmstart.8.
  */
+#include <signal.h>
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -23,9 +24,18 @@ static int run(const struct sw_opts *o, struct sw_env *env, struct sw_err *e)
 
 		ret = sw_i2c_open(&io, &b, e);
 	} else {
-		struct sw_iio_opts io = { .device = o->device };
+		struct sw_iio_opts io = {
+			.device = o->device,
+			/* The unit's stop action after an unbind or unplug. */
+			.gone_ok = o->cmd == SW_CMD_SAVE && o->if_present,
+		};
 
 		ret = sw_iio_open(&io, &b, e);
+		if (!ret && !b) {
+			sw_note(env, "no em7180 IIO device matches '%s' any more (unbound or unplugged); nothing to save",
+				o->device ? o->device : "em7180");
+			return SW_EXIT_OK;
+		}
 	}
 	if (ret)
 		return ret;
@@ -45,6 +55,9 @@ static int run(const struct sw_opts *o, struct sw_env *env, struct sw_err *e)
 		break;
 	case SW_CMD_ACCEL_CAL:
 		ret = sw_cmd_accel_cal(b, o, env, e);
+		break;
+	case SW_CMD_KEY:
+		ret = sw_cmd_key(b, o, env, e);
 		break;
 	default:
 		ret = sw_err_set(e, SW_EXIT_USAGE, "no command given");
@@ -86,5 +99,10 @@ int main(int argc, char **argv)
 		sw_report(&env, &e);
 	if (fflush(stdout) != 0 && !ret)
 		ret = SW_EXIT_IO;
+	/* The chip is left running: now die of the signal, as the caller expects. */
+	if (sw_signal_pending()) {
+		signal(sw_signal_pending(), SIG_DFL);
+		raise(sw_signal_pending());
+	}
 	return ret;
 }

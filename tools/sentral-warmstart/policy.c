@@ -8,9 +8,16 @@ bool sw_policy_save(const struct sw_policy_in *in, char *why, size_t len)
 {
 	double pct = sw_score_pct(in->score_raw);
 	double old_pct = sw_score_pct(in->old_score_raw);
-	bool old_good = in->have_old && in->old_status == 3 &&
+	bool have_old = in->have_old && sw_score_raw_valid(in->old_score_raw);
+	bool old_good = have_old && in->old_status == 3 &&
 			old_pct <= in->max_score;
 
+	/* Below 0 % is a bad read: it would look better than any calibration. */
+	if (!sw_score_raw_valid(in->score_raw)) {
+		snprintf(why, len, "score %.3f%% is out of range (a bad read?)",
+			 pct);
+		return false;
+	}
 	if (in->force) {
 		snprintf(why, len, "forced (status %d, score %.3f%%)",
 			 in->status, pct);
@@ -22,12 +29,12 @@ bool sw_policy_save(const struct sw_policy_in *in, char *why, size_t len)
 			 in->status);
 		return false;
 	}
-	if (in->have_old && pct < old_pct) {
+	if (have_old && pct < old_pct) {
 		snprintf(why, len, "score %.3f%% is better than the saved %.3f%%",
 			 pct, old_pct);
 		return true;
 	}
-	if (in->have_old && pct > old_pct && old_good) {
+	if (have_old && pct > old_pct && old_good) {
 		snprintf(why, len,
 			 "score %.3f%% is worse than the saved file's %.3f%%; not replacing a good calibration (use --force)",
 			 pct, old_pct);
@@ -38,7 +45,7 @@ bool sw_policy_save(const struct sw_policy_in *in, char *why, size_t len)
 			 pct, in->max_score);
 		return true;
 	}
-	if (in->have_old)
+	if (have_old)
 		snprintf(why, len,
 			 "score %.3f%% is above the limit %.3f%% and not better than the saved %.3f%%",
 			 pct, in->max_score, old_pct);

@@ -10,18 +10,27 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <sysexits.h>
 
 #define SW_VERSION "1.0.0"
 
-/* Exit codes, documented in sentral-warmstart.8 and --help. */
+/*
+ * Exit codes, documented in sentral-warmstart.8 and --help. They come from
+ * sysexits.h so that systemd names them right ("65/DATAERR"); its names
+ * for 1..7 are the LSB init-script meanings, which would mislead. "The
+ * save policy said no" is a success: nothing went wrong.
+ */
 enum sw_exit {
 	SW_EXIT_OK = 0,
-	SW_EXIT_USAGE = 1,	/* bad command line */
-	SW_EXIT_DEVICE = 2,	/* no device, several, wrong chip, driver bound */
-	SW_EXIT_FILE = 3,	/* saved file missing or refused by a check */
-	SW_EXIT_POLICY = 4,	/* save refused by the save policy */
-	SW_EXIT_IO = 5,		/* sysfs, i2c bus or file system error */
-	SW_EXIT_CAL = 6,	/* calibration incomplete, timed out or unverified */
+	SW_EXIT_USAGE = EX_USAGE,	/* 64: bad command line */
+	SW_EXIT_FILE = EX_DATAERR,	/* 65: saved file failed a check */
+	SW_EXIT_NOFILE = EX_NOINPUT,	/* 66: saved file missing */
+	SW_EXIT_DEVICE = EX_UNAVAILABLE, /* 69: no device, several, wrong chip, driver bound */
+	SW_EXIT_OSERR = EX_OSERR,	/* 71: out of memory */
+	SW_EXIT_STATEDIR = EX_OSFILE,	/* 72: state directory missing */
+	SW_EXIT_IO = EX_IOERR,		/* 74: sysfs, i2c bus or file system error */
+	SW_EXIT_CAL = EX_TEMPFAIL,	/* 75: calibration incomplete, timed out or unverified */
+	SW_EXIT_PERM = EX_NOPERM,	/* 77: refused: owner, mode or symlink */
 };
 
 /* Warm-start parameters 1..35, one little-endian float32 each. */
@@ -47,6 +56,18 @@ static inline double sw_score_pct(uint16_t raw)
 /* Inverse of the above, rounding to the nearest raw value. */
 uint16_t sw_score_raw(double pct);
 
+/*
+ * calibration_score as the driver prints it ("2.747"): plain decimals from
+ * -100 to 100 only, never "nan", "inf" or hex. False when it is not.
+ */
+bool sw_parse_score(const char *text, uint16_t *raw);
+
+/* A score is a fit error: 0 % or more. A raw value below 0x8000 is a bad read. */
+static inline bool sw_score_raw_valid(uint16_t raw)
+{
+	return raw >= 0x8000;
+}
+
 struct sw_err {
 	int code;		/* enum sw_exit, SW_EXIT_OK when nothing failed */
 	char msg[512];
@@ -56,6 +77,18 @@ struct sw_err {
 int sw_err_set(struct sw_err *e, int code, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));
 void sw_err_clear(struct sw_err *e);
+/* Add to the message of a failure already recorded. */
+void sw_err_append(struct sw_err *e, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+
+/*
+ * SIGINT, SIGTERM and SIGHUP only note the signal (sw_signal_pending());
+ * the i2c-dev backend then ends transfer mode and fails, and main() dies of
+ * the signal once the chip is left running. Installed by that backend only:
+ * the driver's sysfs writes are whole in the kernel.
+ */
+void sw_signals_catch(void);
+int sw_signal_pending(void);
 
 /* Identity of the chip, compared against a saved file before a restore. */
 struct sw_chip_info {
@@ -73,6 +106,12 @@ struct sw_cal_state {
 	int gyro_bias_update;	/* reg 0x44 bit 1 */
 	int mag_cal_update;	/* reg 0x44 bit 0 */
 };
+
+/*
+ * Values read from the chip are input, not truth: true when every field of
+ * cs is in range, else false with why saying which is not.
+ */
+bool sw_cal_state_check(const struct sw_cal_state *cs, char *why, size_t len);
 
 /* Little-endian helpers: the file format and the bus are both LE. */
 static inline void sw_put_le16(uint8_t *p, uint16_t v)

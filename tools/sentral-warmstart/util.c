@@ -4,7 +4,10 @@
  */
 #include <limits.h>
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "sw.h"
@@ -25,6 +28,42 @@ int sw_err_set(struct sw_err *e, int code, const char *fmt, ...)
 	return code;
 }
 
+void sw_err_append(struct sw_err *e, const char *fmt, ...)
+{
+	size_t n = strlen(e->msg);
+	va_list ap;
+
+	va_start(ap, fmt);
+	vsnprintf(e->msg + n, sizeof(e->msg) - n, fmt, ap);
+	va_end(ap);
+}
+
+/* The one piece of state a signal handler can share: which signal came. */
+static volatile sig_atomic_t caught_signal;
+
+static void on_signal(int sig)
+{
+	caught_signal = sig;
+}
+
+void sw_signals_catch(void)
+{
+	static const int sigs[] = { SIGINT, SIGTERM, SIGHUP };
+	struct sigaction sa;
+	size_t i;
+
+	memset(&sa, 0, sizeof(sa));
+	sa.sa_handler = on_signal;
+	sigemptyset(&sa.sa_mask);
+	for (i = 0; i < sizeof(sigs) / sizeof(sigs[0]); i++)
+		sigaction(sigs[i], &sa, NULL);
+}
+
+int sw_signal_pending(void)
+{
+	return caught_signal;
+}
+
 void sw_err_clear(struct sw_err *e)
 {
 	e->code = SW_EXIT_OK;
@@ -35,11 +74,59 @@ uint16_t sw_score_raw(double pct)
 {
 	double raw = round(pct * 32768.0 / 100.0) + 32768.0;
 
-	if (raw < 0)
+	/* Raw 0 (-100 %) is out of range for sw_score_raw_valid(). */
+	if (isnan(raw) || raw < 0)
 		return 0;
 	if (raw > 65535)
 		return 65535;
 	return (uint16_t)raw;
+}
+
+bool sw_parse_score(const char *text, uint16_t *raw)
+{
+	const char *p = text;
+	double pct;
+
+	/* Plain decimals only: strtod would take "nan", "inf" and hex. */
+	if (*p == '-')
+		p++;
+	if (*p < '0' || *p > '9')
+		return false;
+	while (*p >= '0' && *p <= '9')
+		p++;
+	if (*p == '.') {
+		p++;
+		if (*p < '0' || *p > '9')
+			return false;
+		while (*p >= '0' && *p <= '9')
+			p++;
+	}
+	if (*p || p - text > 20)
+		return false;
+	pct = strtod(text, NULL);
+	if (pct < -100.0 || pct >= 100.0)
+		return false;
+	*raw = sw_score_raw(pct);
+	return true;
+}
+
+bool sw_cal_state_check(const struct sw_cal_state *cs, char *why, size_t len)
+{
+	if (cs->status < 0 || cs->status > 3)
+		snprintf(why, len, "calibration status %d is not 0..3", cs->status);
+	else if (cs->mag_transient < 0 || cs->mag_transient > 3)
+		snprintf(why, len, "mag_transient %d is not 0..3",
+			 cs->mag_transient);
+	else if ((unsigned int)cs->gyro_bias_update > 1 ||
+		 (unsigned int)cs->mag_cal_update > 1)
+		snprintf(why, len, "an update flag is not 0 or 1 (%d, %d)",
+			 cs->gyro_bias_update, cs->mag_cal_update);
+	else if (!sw_score_raw_valid(cs->score_raw))
+		snprintf(why, len, "calibration score %.3f%% is below 0 %%",
+			 sw_score_pct(cs->score_raw));
+	else
+		return true;
+	return false;
 }
 
 float sw_blob_param(const uint8_t *blob, int n)

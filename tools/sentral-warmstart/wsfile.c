@@ -2,13 +2,17 @@
 /*
  * sentral-warmstart: saved-file encode, decode, validation and atomic I/O.
  */
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/random.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -144,11 +148,20 @@ enum sw_file_check sw_file_decode(const uint8_t *buf, size_t len,
 		DETAIL("stored 0x%08x, computed 0x%08x", crc_file, crc_calc);
 		return SW_CHECK_CRC;
 	}
-	/* Only a buggy writer gets past the CRC with these wrong. */
+	/*
+	 * Only a buggy writer gets past the CRC with these wrong. A score
+	 * below 0 % came from a bad read and would look better than any
+	 * real calibration to the save policy.
+	 */
 	if (buf[OFF_STATUS] > 3 || buf[OFF_RSVD1] ||
 	    sw_get_le16(buf + OFF_RSVD2)) {
 		DETAIL("calibration status %u or a reserved byte out of range",
 		       buf[OFF_STATUS]);
+		return SW_CHECK_FIELD;
+	}
+	if (!sw_score_raw_valid(sw_get_le16(buf + OFF_SCORE))) {
+		DETAIL("calibration score raw 0x%04x is below 0 %%",
+		       sw_get_le16(buf + OFF_SCORE));
 		return SW_CHECK_FIELD;
 	}
 	bad = sw_blob_nonfinite(buf + OFF_PAYLOAD);
@@ -222,15 +235,25 @@ const char *sw_param_name(int n)
 	return param_names[n];
 }
 
-/* dir and base of path; base points into path. */
+/*
+ * dir and base of path; base points into path. Trailing slashes are
+ * dropped from dir ("DIR/" would make O_NOFOLLOW follow a symlink DIR),
+ * and a dir ending in "." or ".." after another component ("link/.") is
+ * refused: its last component would not be the directory's own name.
+ */
 static int split_path(const char *path, char *dir, size_t dir_len,
 		      const char **base, struct sw_err *e)
 {
 	const char *slash = strrchr(path, '/');
+	const char *last;
 
 	if (slash) {
-		size_t dlen = slash == path ? 1 : (size_t)(slash - path);
+		size_t dlen = (size_t)(slash - path);
 
+		while (dlen > 0 && path[dlen - 1] == '/')
+			dlen--;
+		if (dlen == 0)
+			dlen = 1;	/* the root directory */
 		if (dlen >= dir_len)
 			return sw_err_set(e, SW_EXIT_USAGE, "%s: path too long",
 					  path);
@@ -244,6 +267,11 @@ static int split_path(const char *path, char *dir, size_t dir_len,
 	if (!**base || strlen(*base) > 200 || !strcmp(*base, ".") ||
 	    !strcmp(*base, ".."))
 		return sw_err_set(e, SW_EXIT_USAGE, "%s: not a file name", path);
+	last = strrchr(dir, '/');
+	if (last && last[1] && (!strcmp(last + 1, ".") || !strcmp(last + 1, "..")))
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "%s: name the directory itself, not '%s'",
+				  path, last + 1);
 	return SW_EXIT_OK;
 }
 
@@ -252,12 +280,12 @@ static int check_owner(const char *what, const char *name,
 		       const struct stat *st, struct sw_err *e)
 {
 	if (st->st_uid != geteuid())
-		return sw_err_set(e, SW_EXIT_FILE,
+		return sw_err_set(e, SW_EXIT_PERM,
 				  "%s: refused: %s owned by uid %u, not uid %u",
 				  name, what, (unsigned int)st->st_uid,
 				  (unsigned int)geteuid());
 	if (st->st_mode & 022)
-		return sw_err_set(e, SW_EXIT_FILE,
+		return sw_err_set(e, SW_EXIT_PERM,
 				  "%s: refused: %s writable by group or others (mode %04o)",
 				  name, what, (unsigned int)(st->st_mode & 07777));
 	return SW_EXIT_OK;
@@ -269,13 +297,57 @@ static int open_error(const char *path, int err, int *errno_out,
 	if (errno_out)
 		*errno_out = err;
 	if (err == ELOOP)
-		return sw_err_set(e, SW_EXIT_FILE,
+		return sw_err_set(e, SW_EXIT_PERM,
 				  "%s: is a symbolic link; refusing to follow it",
 				  path);
 	if (err == ENOENT)
-		return sw_err_set(e, SW_EXIT_FILE, "%s: file does not exist",
+		return sw_err_set(e, SW_EXIT_NOFILE, "%s: file does not exist",
 				  path);
 	return sw_err_set(e, SW_EXIT_IO, "%s: %s", path, strerror(err));
+}
+
+/*
+ * The directory of a state or --file file, never through a symlink (its
+ * last component; the system's own path above it is trusted). Returns the
+ * descriptor or -exit code.
+ */
+static int open_parent(const char *path, const char *dir, bool state,
+		       int *errno_out, struct sw_err *e)
+{
+	struct stat st;
+	int dfd, ret;
+
+	dfd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+	if (dfd < 0 && (errno == ELOOP || errno == ENOTDIR)) {
+		if (errno_out)
+			*errno_out = errno;
+		return -sw_err_set(e, SW_EXIT_PERM,
+				   "%s: not a directory or a symbolic link; refusing to read through it",
+				   dir);
+	}
+	/* A missing state directory is not a missing file: /var may not be mounted. */
+	if (dfd < 0 && errno == ENOENT && state) {
+		if (errno_out)
+			*errno_out = ENOENT;
+		return -sw_err_set(e, SW_EXIT_STATEDIR,
+				   "state directory %s does not exist (is its file system mounted?)",
+				   dir);
+	}
+	if (dfd < 0)
+		return -open_error(path, errno, errno_out, e);
+	if (!state)
+		return dfd;
+	if (fstat(dfd, &st) < 0) {
+		ret = sw_err_set(e, SW_EXIT_IO, "%s: %s", dir, strerror(errno));
+		close(dfd);
+		return -ret;
+	}
+	ret = check_owner("directory", dir, &st, e);
+	if (ret) {
+		close(dfd);
+		return -ret;
+	}
+	return dfd;
 }
 
 int sw_file_read(const char *path, enum sw_read_mode mode, uint8_t *buf,
@@ -291,33 +363,14 @@ int sw_file_read(const char *path, enum sw_read_mode mode, uint8_t *buf,
 
 	if (errno_out)
 		*errno_out = 0;
-	if (mode != SW_READ_ANY)
+	if (mode != SW_READ_ANY) {
 		flags |= O_NOFOLLOW;
-	if (mode == SW_READ_STATE) {
 		ret = split_path(path, dir, sizeof(dir), &base, e);
 		if (ret)
 			return ret;
-		dfd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-		if (dfd < 0 && (errno == ELOOP || errno == ENOTDIR)) {
-			if (errno_out)
-				*errno_out = errno;
-			return sw_err_set(e, SW_EXIT_FILE,
-					  "%s: not a directory or a symbolic link; refusing to read through it",
-					  dir);
-		}
+		dfd = open_parent(path, dir, mode == SW_READ_STATE, errno_out, e);
 		if (dfd < 0)
-			return open_error(path, errno, errno_out, e);
-		if (fstat(dfd, &st) < 0) {
-			ret = sw_err_set(e, SW_EXIT_IO, "%s: %s", dir,
-					 strerror(errno));
-			close(dfd);
-			return ret;
-		}
-		ret = check_owner("directory", dir, &st, e);
-		if (ret) {
-			close(dfd);
-			return ret;
-		}
+			return -dfd;
 	}
 	fd = openat(dfd, base, flags);
 	if (fd < 0) {
@@ -379,16 +432,18 @@ static int write_all(int fd, const uint8_t *buf, size_t len)
 static int open_dir(const char *dir, bool state_dir, struct sw_err *e)
 {
 	struct stat st;
+	bool created;
 	int dfd, ret;
 
 	/* Only the last component is created: /var/lib must already exist. */
-	if (mkdir(dir, 0700) < 0 && errno != EEXIST)
+	created = mkdir(dir, 0700) == 0;
+	if (!created && errno != EEXIST)
 		return -sw_err_set(e, SW_EXIT_IO, "%s: cannot create directory: %s",
 				   dir, strerror(errno));
 	dfd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
 	if (dfd < 0) {
 		if (errno == ELOOP || errno == ENOTDIR)
-			return -sw_err_set(e, SW_EXIT_FILE,
+			return -sw_err_set(e, SW_EXIT_PERM,
 					   "%s: not a directory or a symbolic link; refusing to write through it",
 					   dir);
 		return -sw_err_set(e, SW_EXIT_IO, "%s: %s", dir,
@@ -404,19 +459,81 @@ static int open_dir(const char *dir, bool state_dir, struct sw_err *e)
 	/* Someone else's directory: they could swap the file after us. */
 	if (st.st_uid != geteuid()) {
 		close(dfd);
-		return -sw_err_set(e, SW_EXIT_FILE,
+		return -sw_err_set(e, SW_EXIT_PERM,
 				   "%s: refused: directory owned by uid %u, not uid %u",
 				   dir, (unsigned int)st.st_uid,
 				   (unsigned int)geteuid());
 	}
-	/* Saved calibrations are root's business alone. */
-	if ((st.st_mode & 077) && fchmod(dfd, 0700) < 0) {
-		ret = sw_err_set(e, SW_EXIT_IO, "%s: chmod 0700: %s", dir,
-				 strerror(errno));
+	/*
+	 * Saved calibrations are root's business alone, but a directory the
+	 * tool did not create (--state-dir /var/lib, say) is not its to
+	 * change: refuse rather than chmod it under other services.
+	 */
+	if (!created && (st.st_mode & 077)) {
 		close(dfd);
-		return -ret;
+		return -sw_err_set(e, SW_EXIT_PERM,
+				   "%s: refused: group or others have access (mode %04o); a state directory must be 0700 (chmod 0700 %s if it holds nothing else)",
+				   dir, (unsigned int)(st.st_mode & 07777), dir);
 	}
 	return dfd;
+}
+
+/*
+ * A temporary name of ours: ".BASE.XXXXXXXX.tmp" with 8 hex digits.
+ */
+static bool is_our_temp(const char *name, const char *base)
+{
+	size_t bl = strlen(base), nl = strlen(name), i;
+
+	if (nl != 1 + bl + 1 + 8 + 4 || name[0] != '.' ||
+	    strncmp(name + 1, base, bl) || name[1 + bl] != '.' ||
+	    strcmp(name + nl - 4, ".tmp"))
+		return false;
+	for (i = 2 + bl; i < 2 + bl + 8; i++)
+		if (!strchr("0123456789abcdef", name[i]))
+			return false;
+	return true;
+}
+
+/* A killed save's temporary file is older than this; a live one is locked. */
+#define STALE_TEMP_S 2
+
+/*
+ * Remove temporary files a killed save left behind: regular files of our
+ * name pattern, ours, not locked by a save still running (each holds an
+ * flock on its temporary file until the rename) and not brand new (the
+ * instant between a save's create and its lock).
+ */
+static void remove_stale_temps(int dfd, const char *base)
+{
+	struct dirent *de;
+	int fd, dup_fd;
+	struct stat st;
+	DIR *d;
+
+	dup_fd = dup(dfd);
+	if (dup_fd < 0)
+		return;
+	d = fdopendir(dup_fd);
+	if (!d) {
+		close(dup_fd);
+		return;
+	}
+	while ((de = readdir(d))) {
+		if (!is_our_temp(de->d_name, base))
+			continue;
+		fd = openat(dfd, de->d_name, O_RDONLY | O_NOFOLLOW | O_NONBLOCK |
+			    O_CLOEXEC | O_NOCTTY);
+		if (fd < 0)
+			continue;
+		if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
+		    st.st_uid == geteuid() &&
+		    st.st_mtime + STALE_TEMP_S < time(NULL) &&
+		    flock(fd, LOCK_EX | LOCK_NB) == 0)
+			unlinkat(dfd, de->d_name, 0);
+		close(fd);
+	}
+	closedir(d);
 }
 
 int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
@@ -437,7 +554,7 @@ int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
 	if (fstatat(dfd, base, &st, AT_SYMLINK_NOFOLLOW) == 0) {
 		if (S_ISLNK(st.st_mode)) {
 			close(dfd);
-			return sw_err_set(e, SW_EXIT_FILE,
+			return sw_err_set(e, SW_EXIT_PERM,
 					  "%s: is a symbolic link; refusing to replace it",
 					  path);
 		}
@@ -448,6 +565,7 @@ int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
 					  path);
 		}
 	}
+	remove_stale_temps(dfd, base);
 
 	for (i = 0; i < 100 && fd < 0; i++) {
 		uint32_t rnd = 0;
@@ -466,22 +584,17 @@ int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
 		return sw_err_set(e, SW_EXIT_IO, "%s: cannot create a temporary file: %s",
 				  dir, strerror(err));
 	}
-	/* umask can only remove bits; make 0600 explicit anyway. */
-	if (fchmod(fd, 0600) < 0 || write_all(fd, buf, len) < 0 ||
-	    fsync(fd) < 0) {
+	/*
+	 * Held until the rename, so that another save never takes this file
+	 * for a killed one's. umask can only remove bits; make 0600 explicit.
+	 */
+	if (flock(fd, LOCK_EX) < 0 || fchmod(fd, 0600) < 0 ||
+	    write_all(fd, buf, len) < 0 || fsync(fd) < 0 ||
+	    renameat(dfd, tmp, dfd, base) < 0) {
 		err = errno;
 		goto fail;
 	}
-	if (close(fd) < 0) {
-		fd = -1;
-		err = errno;
-		goto fail;
-	}
-	fd = -1;
-	if (renameat(dfd, tmp, dfd, base) < 0) {
-		err = errno;
-		goto fail;
-	}
+	close(fd);
 	/* The rename is durable only once the directory is on disk too. */
 	if (fsync(dfd) < 0) {
 		err = errno;
@@ -493,10 +606,45 @@ int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
 	return SW_EXIT_OK;
 
 fail:
-	if (fd >= 0)
-		close(fd);
 	unlinkat(dfd, tmp, 0);
+	close(fd);
 	close(dfd);
 	return sw_err_set(e, SW_EXIT_IO, "%s: write failed: %s", path,
 			  strerror(err));
+}
+
+int sw_file_rename(const char *from, const char *to, bool replace,
+		   struct sw_err *e)
+{
+	char dir[4096], dir2[4096];
+	const char *base, *base2;
+	struct stat st;
+	int dfd, ret;
+
+	ret = split_path(from, dir, sizeof(dir), &base, e);
+	ret = ret ? ret : split_path(to, dir2, sizeof(dir2), &base2, e);
+	if (ret)
+		return ret;
+	if (strcmp(dir, dir2))
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "%s and %s are not in one directory", from, to);
+	dfd = open_parent(from, dir, true, NULL, e);
+	if (dfd < 0)
+		return -dfd;
+	if (fstatat(dfd, base, &st, AT_SYMLINK_NOFOLLOW) < 0 ||
+	    !S_ISREG(st.st_mode)) {
+		ret = sw_err_set(e, SW_EXIT_FILE, "%s: not a regular file", from);
+		goto out;
+	}
+	if (renameat2(dfd, base, dfd, base2, replace ? 0 : RENAME_NOREPLACE) < 0) {
+		ret = sw_err_set(e, SW_EXIT_IO, "renaming %s to %s: %s", from,
+				 to, strerror(errno));
+		goto out;
+	}
+	if (fsync(dfd) < 0)
+		ret = sw_err_set(e, SW_EXIT_IO, "%s: fsync: %s", dir,
+				 strerror(errno));
+out:
+	close(dfd);
+	return ret;
 }

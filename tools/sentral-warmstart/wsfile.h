@@ -110,25 +110,39 @@ enum sw_read_mode {
 };
 
 /*
- * Read a whole file of at most SW_FILE_MAX_READ bytes. Returns SW_EXIT_OK,
- * or SW_EXIT_FILE with e->msg set (errno_out = ENOENT when it or the state
- * directory is missing, ELOOP for a symlink), or SW_EXIT_IO.
+ * Read a whole file of at most SW_FILE_MAX_READ bytes. Neither the file
+ * nor, except with SW_READ_ANY, its directory may be a symbolic link.
+ * Returns SW_EXIT_OK or, with e->msg set: SW_EXIT_NOFILE (the file is
+ * missing), SW_EXIT_STATEDIR (SW_READ_STATE: the directory is missing),
+ * SW_EXIT_PERM (a symlink, or an owner or mode sw_read_mode refuses),
+ * SW_EXIT_FILE (not a regular file) or SW_EXIT_IO. errno_out, when not
+ * NULL, receives the errno of a failed open (EACCES, ENOENT, ELOOP...).
  */
 int sw_file_read(const char *path, enum sw_read_mode mode, uint8_t *buf,
 		 size_t *len, int *errno_out, struct sw_err *e);
 
 /*
- * Atomically replace path with buf: temp file in the same directory
- * (mode 0600, O_EXCL|O_NOFOLLOW), write, fsync, rename, fsync the
- * directory. The directory is created 0700 when missing (its parent must
- * exist) and must not be a symlink; an existing target that is a symlink
- * or not a regular file is refused. With state_dir (the directory is the
- * state directory, not --file's), it must also be owned by the effective
- * user, and group and others lose their access to it; --file's directory
- * (/tmp, say) is left as it is. No partial file is ever visible at path;
- * the temp file is removed on every error.
+ * Atomically replace path with buf: temp file ".BASE.XXXXXXXX.tmp" in the
+ * same directory (mode 0600, O_EXCL|O_NOFOLLOW, flock'ed until renamed),
+ * write, fsync, rename, fsync the directory. Temp files of a killed save
+ * (same pattern, unlocked, older than 2 s) are removed first. The
+ * directory is created 0700 when missing (its parent must exist) and must
+ * not be a symlink; an existing target that is a symlink or not a regular
+ * file is refused. With state_dir (the directory is the state directory,
+ * not --file's), it must also be owned by the effective user, and one the
+ * tool did not create just now must not be open to group or others: it is
+ * refused, never chmod'ed. No partial file is ever visible at path; the
+ * temp file is removed on every error.
  */
 int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
 			 bool state_dir, struct sw_err *e);
+
+/*
+ * Rename a state file within its (checked) state directory: to set a
+ * refused file aside, or to move a file saved under an old key to the new
+ * one. Without replace, an existing target is never overwritten (EEXIST).
+ */
+int sw_file_rename(const char *from, const char *to, bool replace,
+		   struct sw_err *e);
 
 #endif

@@ -101,7 +101,8 @@ static int f_offset_get(struct sw_backend *b, int lsb[3], struct sw_err *e)
 	struct fake_be *f = to_fake(b);
 
 	(void)e;
-	memcpy(lsb, f->offset, sizeof(f->offset));
+	memcpy(lsb, f->offset_reported ? f->offset_reported : f->offset,
+	       sizeof(f->offset));
 	if (f->offset_readback_wrong)
 		lsb[0]++;
 	return SW_EXIT_OK;
@@ -146,7 +147,7 @@ void fake_init(struct fake_be *f, struct fake_clock *clk)
 	f->b.ops = &fake_ops;
 	f->b.kind = "fake";
 	strcpy(f->b.name, "iio:device0");
-	strcpy(f->b.key, "platform-sentral-sim");
+	strcpy(f->b.key, "platform-sentral-sim-0x28");
 	f->clk = clk;
 	f->chip.product_id = 0x80;
 	f->chip.revision_id = 0x02;

@@ -38,6 +38,7 @@ struct fake_be {
 	int offset[3];
 	int noise;
 	bool offset_readback_wrong;
+	const int *offset_reported;	/* what a lying driver reports */
 	unsigned int samples_read;
 	/* the magnetometer at a time: NULL reads a device at rest */
 	void (*mag)(uint64_t now_ms, double ut[3]);

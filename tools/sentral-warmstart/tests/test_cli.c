@@ -68,6 +68,13 @@ static void test_good(void **state)
 			       "/s", NULL), SW_EXIT_OK);
 	assert_true(o.if_present);
 	assert_string_equal(o.state_dir, "/s");
+	assert_int_equal(parse(&o, &e, "--device", "k", "save", "--if-present",
+			       NULL), SW_EXIT_OK);
+	assert_true(o.if_present);
+	assert_int_equal(parse(&o, &e, "--device", "iio:device0", "key", "--udev",
+			       NULL), SW_EXIT_OK);
+	assert_int_equal(o.cmd, SW_CMD_KEY);
+	assert_true(o.udev);
 	assert_int_equal(parse(&o, &e, "show", "a.ws", NULL), SW_EXIT_OK);
 	assert_int_equal(o.cmd, SW_CMD_SHOW);
 	assert_string_equal(o.file, "a.ws");
@@ -174,8 +181,12 @@ static void test_errors(void **state)
 	expect_usage("--address", "--i2c", "/dev/i2c-0", "--address", "zz",
 		     "status", NULL);
 	expect_usage("--json is not an option of 'save'", "save", "--json", NULL);
-	expect_usage("--if-present is not an option", "save", "--if-present",
+	expect_usage("--if-present is not an option", "accel-cal",
+		     "--if-present", NULL);
+	expect_usage("--udev is not an option of 'status'", "status", "--udev",
 		     NULL);
+	expect_usage("key --udev names an IIO device", "--i2c", "/dev/i2c-0",
+		     "key", "--udev", NULL);
 	expect_usage("--timeout is not an option", "save", "--timeout", "3",
 		     NULL);
 	expect_usage("--samples is not an option", "calibrate", "--samples",

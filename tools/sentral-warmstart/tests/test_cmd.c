@@ -36,7 +36,7 @@ static int setup(void **state)
 	strcpy(c->dir, "/tmp/sw-cmd-XXXXXX");
 	if (!mkdtemp(c->dir))
 		return -1;
-	snprintf(c->path, sizeof(c->path), "%s/platform-sentral-sim.ws",
+	snprintf(c->path, sizeof(c->path), "%s/platform-sentral-sim-0x28.ws",
 		 c->dir);
 	c->clk.now_ms = 1000;
 	c->clk.wall_s = 1800000000;
@@ -125,14 +125,16 @@ static void test_save_policy_refusals(void **state)
 	struct ctx *c = *state;
 	struct sw_file f;
 
+	/* The policy saying no is a success (the unit's stop action). */
 	c->fb.cs.status = 2;
-	assert_int_equal(save(c), SW_EXIT_POLICY);
-	assert_non_null(strstr(c->e.msg, "incomplete"));
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "not saving iio:device0 calibration"));
+	assert_non_null(strstr(out_text(c), "incomplete"));
 	assert_int_equal(access(c->path, F_OK), -1);
 
 	c->fb.cs.status = 3;
 	c->fb.cs.score_raw = sw_score_raw(6.0);
-	assert_int_equal(save(c), SW_EXIT_POLICY);
+	assert_int_equal(save(c), SW_EXIT_OK);
 	assert_int_equal(access(c->path, F_OK), -1);
 	c->o.max_score = 7.0;
 	assert_int_equal(save(c), SW_EXIT_OK);
@@ -144,8 +146,8 @@ static void test_save_policy_refusals(void **state)
 	assert_int_equal(save(c), SW_EXIT_OK);
 	c->fb.cs.score_raw = sw_score_raw(4.0);
 	sw_blob_set_param(c->fb.blob, 1, 99.0f);
-	assert_int_equal(save(c), SW_EXIT_POLICY);
-	assert_non_null(strstr(c->e.msg, "worse"));
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "worse"));
 	assert_true(load(c, &f));
 	assert_int_equal(f.score_raw, sw_score_raw(2.0));
 	/* ...unless forced. */
@@ -195,7 +197,7 @@ static void test_save_refuses_symlink(void **state)
 
 	snprintf(target, sizeof(target), "%s/elsewhere", c->dir);
 	assert_int_equal(symlink(target, c->path), 0);
-	assert_int_equal(save(c), SW_EXIT_FILE);
+	assert_int_equal(save(c), SW_EXIT_PERM);
 	assert_non_null(strstr(c->e.msg, "symbolic link"));
 	assert_int_equal(access(target, F_OK), -1);
 }
@@ -220,7 +222,7 @@ static void test_restore_missing(void **state)
 {
 	struct ctx *c = *state;
 
-	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_int_equal(restore(c), SW_EXIT_NOFILE);
 	assert_non_null(strstr(c->e.msg, "does not exist"));
 	c->o.if_present = true;
 	assert_int_equal(restore(c), SW_EXIT_OK);
@@ -256,6 +258,7 @@ static void test_restore_refuses_bad_files(void **state)
 			fail_msg("offset %zu: \"%s\" lacks \"%s\"", cases[i].off,
 				 c->e.msg, cases[i].check);
 		assert_non_null(strstr(c->e.msg, "not touched"));
+		assert_non_null(strstr(c->e.msg, ".ws.refused for inspection"));
 	}
 	/* Truncated. */
 	assert_int_equal(sw_file_write_atomic(c->path, good, 100, true, &e),
@@ -263,9 +266,20 @@ static void test_restore_refuses_bad_files(void **state)
 	assert_int_equal(restore(c), SW_EXIT_FILE);
 	assert_non_null(strstr(c->e.msg, "truncated"));
 	/* --if-present does not excuse a bad file. */
+	assert_int_equal(sw_file_write_atomic(c->path, good, 100, true, &e),
+			 SW_EXIT_OK);
 	c->o.if_present = true;
 	assert_int_equal(restore(c), SW_EXIT_FILE);
 	assert_int_equal(c->fb.writes, 0);
+}
+
+/* A refused state file is moved aside: put it back for the next case. */
+static void unrefuse(struct ctx *c)
+{
+	char aside[160];
+
+	snprintf(aside, sizeof(aside), "%s.refused", c->path);
+	assert_int_equal(rename(aside, c->path), 0);
 }
 
 static void test_restore_chip_mismatch(void **state)
@@ -277,14 +291,17 @@ static void test_restore_chip_mismatch(void **state)
 	assert_int_equal(restore(c), SW_EXIT_FILE);
 	assert_non_null(strstr(c->e.msg, "RAM version mismatch"));
 	assert_non_null(strstr(c->e.msg, "--force"));
+	unrefuse(c);
 	c->fb.chip.ram_version = 0x0c05;
 	c->fb.chip.product_id = 0x81;
 	assert_int_equal(restore(c), SW_EXIT_FILE);
 	assert_non_null(strstr(c->e.msg, "ProductID mismatch"));
+	unrefuse(c);
 	c->fb.chip.product_id = 0x80;
 	c->fb.chip.rom_version = 0x07a8;
 	assert_int_equal(restore(c), SW_EXIT_FILE);
 	assert_non_null(strstr(c->e.msg, "ROM version mismatch"));
+	unrefuse(c);
 	assert_int_equal(c->fb.writes, 0);
 	c->o.force = true;
 	assert_int_equal(restore(c), SW_EXIT_OK);
@@ -317,6 +334,181 @@ static void test_restore_write_error(void **state)
 	assert_non_null(strstr(c->e.msg, "fake: write failed"));
 }
 
+/*
+ * Issue 14.3: a value read from the chip is input, not truth. A score below
+ * 0 % (raw < 0x8000, or the -100 % a NaN used to turn into) looked better
+ * than any saved file: one bad read replaced a good calibration and then
+ * blocked every later save.
+ */
+static void test_save_distrusts_chip_values(void **state)
+{
+	struct ctx *c = *state;
+	static const uint16_t bad_scores[] = { 0x7fff, 0x7000, 0x0000 };
+	struct sw_file f;
+	size_t i;
+
+	c->fb.cs.score_raw = sw_score_raw(2.5);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	for (i = 0; i < sizeof(bad_scores) / sizeof(bad_scores[0]); i++) {
+		c->fb.cs.score_raw = bad_scores[i];
+		sw_blob_set_param(c->fb.blob, 1, 77.0f);
+		assert_int_not_equal(save(c), SW_EXIT_OK);
+		assert_non_null(strstr(c->e.msg, "below 0 %"));
+		assert_non_null(strstr(c->e.msg, "not saving"));
+		/* Not even --force takes an impossible value. */
+		c->o.force = true;
+		assert_int_not_equal(save(c), SW_EXIT_OK);
+		c->o.force = false;
+		assert_true(load(c, &f));
+		assert_int_equal(f.score_raw, sw_score_raw(2.5));
+		assert_true(sw_blob_param(f.payload, 1) == 0.5f);
+	}
+	c->fb.cs.score_raw = sw_score_raw(2.5);
+	c->fb.cs.status = 4;
+	assert_int_not_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(c->e.msg, "status 4"));
+	c->fb.cs.status = 3;
+	c->fb.cs.mag_transient = -1;
+	assert_int_not_equal(save(c), SW_EXIT_OK);
+	c->fb.cs.mag_transient = 0;
+	c->fb.cs.gyro_bias_update = 2;
+	assert_int_not_equal(save(c), SW_EXIT_OK);
+	c->fb.cs.gyro_bias_update = 0;
+	/* A good read saves again: nothing was blocked. */
+	c->fb.cs.score_raw = sw_score_raw(1.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(1.0));
+}
+
+/* A file saved before the fix from a bad read no longer blocks saves. */
+static void test_save_replaces_file_with_bad_score(void **state)
+{
+	struct ctx *c = *state;
+	uint8_t buf[SW_FILE_SIZE];
+	struct sw_file f;
+	struct sw_err e;
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	f.score_raw = 0x4000;	/* -50 % */
+	sw_file_encode(&f, buf);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(c->path, buf, sizeof(buf), true,
+					      &e), SW_EXIT_OK);
+	c->fb.cs.score_raw = sw_score_raw(4.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "replacing unusable"));
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(4.0));
+}
+
+/*
+ * Issue 12.3: a refused state file is moved aside with its reason, and the
+ * next save writes a good calibration in its place.
+ */
+static void test_restore_refused_then_save(void **state)
+{
+	struct ctx *c = *state;
+	uint8_t good[SW_FILE_SIZE], back[SW_FILE_SIZE];
+	char aside[160];
+	struct sw_file f;
+	FILE *fp;
+
+	snprintf(aside, sizeof(aside), "%s.refused", c->path);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	fp = fopen(c->path, "r+");
+	assert_non_null(fp);
+	assert_int_equal(fread(good, 1, sizeof(good), fp), sizeof(good));
+	assert_int_equal(fseek(fp, 100, SEEK_SET), 0);
+	fputc(good[100] ^ 0x10, fp);
+	fclose(fp);
+	c->o.if_present = true;
+	c->fb.cs.status = 0;
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_int_equal(SW_EXIT_FILE, 65);	/* systemctl: "65/DATAERR" */
+	assert_non_null(strstr(c->e.msg, "refused: bad CRC"));
+	assert_non_null(strstr(c->e.msg, "moved aside to"));
+	assert_int_equal(c->fb.writes, 0);
+	assert_int_equal(access(c->path, F_OK), -1);
+	fp = fopen(aside, "r");
+	assert_non_null(fp);
+	assert_int_equal(fread(back, 1, sizeof(back), fp), sizeof(back));
+	fclose(fp);
+	good[100] ^= 0x10;
+	assert_memory_equal(back, good, sizeof(good));
+	/* The next boot starts uncalibrated, no longer refused... */
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "nothing to restore"));
+	/* ...and the stop action saves what the chip learns meanwhile. */
+	c->fb.cs.status = 3;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(access(aside, F_OK), 0);
+
+	/* A --file file is the user's: refused, left where it is. */
+	c->o.file = aside;
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_null(strstr(c->e.msg, "moved aside"));
+	assert_int_equal(access(aside, F_OK), 0);
+}
+
+/*
+ * Issue 14.5: a missing state directory is not "no file yet": on a system
+ * without systemd, /var may not be mounted when udev runs the restore.
+ */
+static void test_restore_missing_state_dir(void **state)
+{
+	struct ctx *c = *state;
+	char absent[128];
+
+	snprintf(absent, sizeof(absent), "%s/absent", c->dir);
+	c->o.state_dir = absent;
+	c->o.if_present = true;
+	assert_int_equal(restore(c), SW_EXIT_STATEDIR);
+	assert_non_null(strstr(c->e.msg, "state directory"));
+	assert_non_null(strstr(c->e.msg, "does not exist"));
+	assert_null(strstr(out_text(c), "nothing to restore"));
+	assert_int_equal(c->fb.writes, 0);
+}
+
+/*
+ * Issue 14.1: a file saved under a key of an older version (udev's ID_PATH
+ * or the I2C client's name) is moved to the new key once, with a line
+ * saying so, and restored.
+ */
+static void test_migrate_legacy_key(void **state)
+{
+	struct ctx *c = *state;
+	uint8_t saved[SW_BLOB_SIZE];
+	char legacy[160];
+
+	strcpy(c->fb.b.legacy_key[1], "0-0028");
+	snprintf(legacy, sizeof(legacy), "%s/0-0028.ws", c->dir);
+	c->o.file = legacy;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->o.file = NULL;
+	memcpy(saved, c->fb.blob, SW_BLOB_SIZE);
+	memset(c->fb.blob, 0, SW_BLOB_SIZE);
+	c->fb.cs.status = 0;
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "0-0028.ws (saved under an older key) moves here"));
+	assert_int_equal(access(legacy, F_OK), 0);
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "migrated"));
+	assert_int_equal(access(legacy, F_OK), -1);
+	assert_int_equal(access(c->path, F_OK), 0);
+	assert_memory_equal(c->fb.blob, saved, SW_BLOB_SIZE);
+
+	/* Once: a file under the new key wins, the old one stays untouched. */
+	c->o.file = legacy;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->o.file = NULL;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(access(legacy, F_OK), 0);
+}
+
 static void test_status(void **state)
 {
 	struct ctx *c = *state;
@@ -329,7 +521,7 @@ static void test_status(void **state)
 	c->o.json = true;
 	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_OK);
-	assert_non_null(strstr(out_text(c), "{\"device\":\"iio:device0\",\"backend\":\"fake\",\"key\":\"platform-sentral-sim\",\"product_id\":128,"));
+	assert_non_null(strstr(out_text(c), "{\"device\":\"iio:device0\",\"backend\":\"fake\",\"key\":\"platform-sentral-sim-0x28\",\"product_id\":128,"));
 	assert_non_null(strstr(out_text(c), "\"calibration_status\":3,\"calibration_score\":2.499,"));
 	assert_non_null(strstr(out_text(c), "\"saved\":{\"calibration_status\":3,"));
 }
@@ -589,6 +781,23 @@ static void test_accel_cal_refusals(void **state)
 	assert_non_null(strstr(c->e.msg, "read back"));
 }
 
+/*
+ * Issue 14.3: accel-cal added the chip's current offset to the measured
+ * error in int (old + lround(...)): an offset near INT_MAX overflowed.
+ */
+static void test_accel_cal_distrusts_offsets(void **state)
+{
+	struct ctx *c = *state;
+	static const int lying[3] = { 2147483647, 0, 0 };
+
+	c->fb.bias[0] = 40;
+	c->fb.offset_reported = lying;
+	assert_int_equal(sw_cmd_accel_cal(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_IO);
+	assert_non_null(strstr(c->e.msg, "offset reads 2147483647 LSB, out of range"));
+	assert_int_equal(c->fb.offset[0], 0);
+}
+
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
 
 int main(void)
@@ -605,6 +814,11 @@ int main(void)
 		T(test_restore_chip_mismatch),
 		T(test_restore_not_calibrated_after),
 		T(test_restore_write_error),
+		T(test_save_distrusts_chip_values),
+		T(test_save_replaces_file_with_bad_score),
+		T(test_restore_refused_then_save),
+		T(test_restore_missing_state_dir),
+		T(test_migrate_legacy_key),
 		T(test_status),
 		T(test_show),
 		T(test_calibrate),
@@ -614,6 +828,7 @@ int main(void)
 		T(test_calibrate_tty_map),
 		T(test_accel_cal),
 		T(test_accel_cal_refusals),
+		T(test_accel_cal_distrusts_offsets),
 	};
 
 	return cmocka_run_group_tests_name("commands", tests, NULL, NULL);

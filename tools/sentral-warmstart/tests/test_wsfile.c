@@ -4,6 +4,7 @@
  */
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <setjmp.h>
@@ -11,6 +12,7 @@
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <cmocka.h>
@@ -215,6 +217,45 @@ static void test_bad_fields(void **state)
 	buf[8] = 2;
 	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
 			 SW_CHECK_VERSION);
+
+	/* A score below 0 % came from a bad read (issue 14.3). */
+	sample_file(&f);
+	f.score_raw = 0x7fff;
+	sw_file_encode(&f, buf);
+	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
+			 SW_CHECK_FIELD);
+	f.score_raw = 0x8000;
+	sw_file_encode(&f, buf);
+	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
+			 SW_CHECK_OK);
+}
+
+/* calibration_score as the driver prints it, and nothing else (issue 14.3). */
+static void test_parse_score(void **state)
+{
+	static const char *const bad[] = {
+		"nan", "-nan", "NAN", "inf", "-inf", "infinity", "1e3", "0x10",
+		"", "-", ".5", "5.", "1 ", " 1", "100.000", "-100.001", "3,5",
+		"999999999999999999999",
+	};
+	uint16_t raw = 0;
+	size_t i;
+
+	(void)state;
+	for (i = 0; i < sizeof(bad) / sizeof(bad[0]); i++)
+		if (sw_parse_score(bad[i], &raw))
+			fail_msg("\"%s\" was taken for a score", bad[i]);
+	assert_true(sw_parse_score("2.747", &raw));
+	assert_int_equal(raw, 0x8000 + 900);
+	assert_true(sw_parse_score("0.000", &raw));
+	assert_int_equal(raw, 0x8000);
+	/* Parsed, but below 0 %: sw_score_raw_valid() says no. */
+	assert_true(sw_parse_score("-5.000", &raw));
+	assert_false(sw_score_raw_valid(raw));
+	assert_true(sw_parse_score("-100.000", &raw));
+	assert_int_equal(raw, 0);
+	/* A NaN never becomes a valid raw score. */
+	assert_false(sw_score_raw_valid(sw_score_raw(0.0 / 0.0)));
 }
 
 static void test_match_chip(void **state)
@@ -387,12 +428,103 @@ static void test_atomic_write(void **state)
 				      &e), SW_EXIT_OK);
 	assert_memory_equal(back, buf, SW_FILE_SIZE);
 
-	/* A loose directory mode is tightened. */
+	/*
+	 * Issue 14.5: a state directory open to others is refused, never
+	 * chmod'ed: with --state-dir /var/lib it would break other services.
+	 */
 	assert_int_equal(chmod(s->state, 0755), 0);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
+					      &e), SW_EXIT_PERM);
+	assert_non_null(strstr(e.msg, "group or others have access (mode 0755)"));
+	assert_int_equal(stat(s->state, &st), 0);
+	assert_int_equal(st.st_mode & 07777, 0755);
+	assert_int_equal(count_entries(s->state), 1);
+}
+
+/*
+ * Issue 14.5: a save killed between creating its temporary file and the
+ * rename left it for ever. The next save removes such files: ours by name
+ * and owner, older than 2 s, and not locked by a save still running.
+ */
+static void test_stale_temp_removed(void **state)
+{
+	struct scratch *s = *state;
+	char stale[256], live[256], young[256], other[256];
+	uint8_t buf[SW_FILE_SIZE];
+	struct timespec old[2] = { { 1000, 0 }, { 1000, 0 } };
+	struct sw_err e;
+	struct sw_file f;
+	int lock_fd;
+
+	sample_file(&f);
+	sw_file_encode(&f, buf);
+	assert_int_equal(mkdir(s->state, 0700), 0);
+	snprintf(stale, sizeof(stale), "%s/.key.ws.0badf00d.tmp", s->state);
+	snprintf(live, sizeof(live), "%s/.key.ws.12345678.tmp", s->state);
+	snprintf(young, sizeof(young), "%s/.key.ws.abcdef01.tmp", s->state);
+	snprintf(other, sizeof(other), "%s/.other.ws.0badf00d.tmp", s->state);
+	assert_int_equal(close(open(stale, O_CREAT | O_WRONLY, 0600)), 0);
+	assert_int_equal(close(open(young, O_CREAT | O_WRONLY, 0600)), 0);
+	assert_int_equal(close(open(other, O_CREAT | O_WRONLY, 0600)), 0);
+	lock_fd = open(live, O_CREAT | O_WRONLY, 0600);
+	assert_true(lock_fd >= 0);
+	assert_int_equal(flock(lock_fd, LOCK_EX), 0);
+	assert_int_equal(utimensat(AT_FDCWD, stale, old, 0), 0);
+	assert_int_equal(utimensat(AT_FDCWD, live, old, 0), 0);
+	assert_int_equal(utimensat(AT_FDCWD, other, old, 0), 0);
+	sw_err_clear(&e);
 	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
 					      &e), SW_EXIT_OK);
-	assert_int_equal(stat(s->state, &st), 0);
-	assert_int_equal(st.st_mode & 07777, 0700);
+	assert_int_equal(access(stale, F_OK), -1);
+	assert_int_equal(access(live, F_OK), 0);	/* a save in progress */
+	assert_int_equal(access(young, F_OK), 0);	/* just created */
+	assert_int_equal(access(other, F_OK), 0);	/* another key's */
+	close(lock_fd);
+	assert_int_equal(count_entries(s->state), 4);
+}
+
+/*
+ * Issue 14.5: "never through a symlink" held for the last component only
+ * as written: "--state-dir LINK/" (a trailing slash) and a --file in a
+ * symlinked directory were followed.
+ */
+static void test_no_symlink_dir_bypass(void **state)
+{
+	struct scratch *s = *state;
+	uint8_t buf[SW_FILE_SIZE], back[SW_FILE_MAX_READ + 1];
+	char linkdir[192], via[256];
+	struct sw_err e;
+	struct sw_file f;
+	size_t len;
+
+	sample_file(&f);
+	sw_file_encode(&f, buf);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
+					      &e), SW_EXIT_OK);
+	snprintf(linkdir, sizeof(linkdir), "%s/linkdir", s->dir);
+	assert_int_equal(symlink(s->state, linkdir), 0);
+	snprintf(via, sizeof(via), "%s//key.ws", linkdir);	/* "--state-dir LINK/" */
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_read(via, SW_READ_STATE, back, &len, NULL, &e),
+			 SW_EXIT_PERM);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(via, buf, sizeof(buf), true, &e),
+			 SW_EXIT_PERM);
+	snprintf(via, sizeof(via), "%s/key.ws", linkdir);	/* --file LINK/key.ws */
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_read(via, SW_READ_OWNED, back, &len, NULL, &e),
+			 SW_EXIT_PERM);
+	assert_non_null(strstr(e.msg, "symbolic link"));
+	snprintf(via, sizeof(via), "%s/./key.ws", linkdir);	/* LINK/. */
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_read(via, SW_READ_OWNED, back, &len, NULL, &e),
+			 SW_EXIT_USAGE);
+	/* Reading for show only: a symlink the user named is harmless. */
+	snprintf(via, sizeof(via), "%s/key.ws", linkdir);
+	assert_int_equal(sw_file_read(via, SW_READ_ANY, back, &len, NULL, &e),
+			 SW_EXIT_OK);
 }
 
 static void test_refuses_symlink(void **state)
@@ -421,7 +553,7 @@ static void test_refuses_symlink(void **state)
 
 	sw_err_clear(&e);
 	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
-					      &e), SW_EXIT_FILE);
+					      &e), SW_EXIT_PERM);
 	assert_non_null(strstr(e.msg, "symbolic link"));
 	assert_int_equal(lstat(s->file, &st), 0);
 	assert_true(S_ISLNK(st.st_mode));
@@ -432,7 +564,7 @@ static void test_refuses_symlink(void **state)
 	/* Reading through it is refused as well. */
 	sw_err_clear(&e);
 	assert_int_equal(sw_file_read(s->file, SW_READ_STATE, back, &len, &err,
-				      &e), SW_EXIT_FILE);
+				      &e), SW_EXIT_PERM);
 	assert_int_equal(err, ELOOP);
 
 	/* A symlinked state directory is refused. */
@@ -441,7 +573,7 @@ static void test_refuses_symlink(void **state)
 	snprintf(viafile, sizeof(viafile), "%s/other.ws", linkdir);
 	sw_err_clear(&e);
 	assert_int_equal(sw_file_write_atomic(viafile, buf, sizeof(buf), true,
-					      &e), SW_EXIT_FILE);
+					      &e), SW_EXIT_PERM);
 	assert_int_equal(count_entries(s->state), 1);
 
 	/* A target that is a directory is refused, nothing left behind. */
@@ -512,16 +644,16 @@ static void test_read_trust(void **state)
 
 	/* A file others may write. */
 	assert_int_equal(chmod(s->file, 0620), 0);
-	expect_read(s->file, SW_READ_STATE, SW_EXIT_FILE,
+	expect_read(s->file, SW_READ_STATE, SW_EXIT_PERM,
 		    "refused: file writable by group or others");
-	expect_read(s->file, SW_READ_OWNED, SW_EXIT_FILE,
+	expect_read(s->file, SW_READ_OWNED, SW_EXIT_PERM,
 		    "refused: file writable by group or others");
 	expect_read(s->file, SW_READ_ANY, SW_EXIT_OK, NULL);
 	assert_int_equal(chmod(s->file, 0600), 0);
 
 	/* A state directory others may write: not for --file's directory. */
 	assert_int_equal(chmod(s->state, 0773), 0);
-	expect_read(s->file, SW_READ_STATE, SW_EXIT_FILE,
+	expect_read(s->file, SW_READ_STATE, SW_EXIT_PERM,
 		    "refused: directory writable by group or others");
 	expect_read(s->file, SW_READ_OWNED, SW_EXIT_OK, NULL);
 	assert_int_equal(chmod(s->state, 0700), 0);
@@ -530,12 +662,15 @@ static void test_read_trust(void **state)
 	snprintf(linkdir, sizeof(linkdir), "%s/linkdir", s->dir);
 	assert_int_equal(symlink(s->state, linkdir), 0);
 	snprintf(viafile, sizeof(viafile), "%s/key.ws", linkdir);
-	expect_read(viafile, SW_READ_STATE, SW_EXIT_FILE, "symbolic link");
-	expect_read(viafile, SW_READ_OWNED, SW_EXIT_OK, NULL);
+	expect_read(viafile, SW_READ_STATE, SW_EXIT_PERM, "symbolic link");
+	expect_read(viafile, SW_READ_OWNED, SW_EXIT_PERM, "symbolic link");
 
-	/* A missing state directory is a missing file. */
+	/* A missing state directory is not a missing file: /var unmounted? */
 	snprintf(viafile, sizeof(viafile), "%s/absent/key.ws", s->dir);
-	expect_read(viafile, SW_READ_STATE, SW_EXIT_FILE, "does not exist");
+	expect_read(viafile, SW_READ_STATE, SW_EXIT_STATEDIR, "does not exist");
+	expect_read(viafile, SW_READ_OWNED, SW_EXIT_NOFILE, "does not exist");
+	snprintf(viafile, sizeof(viafile), "%s/absent.ws", s->state);
+	expect_read(viafile, SW_READ_STATE, SW_EXIT_NOFILE, "does not exist");
 
 	/*
 	 * Writing with --file leaves its directory's mode alone: a save to
@@ -553,17 +688,17 @@ static void test_read_trust(void **state)
 	if (geteuid() != 0)
 		return;
 	assert_int_equal(chown(s->file, 65534, 65534), 0);
-	expect_read(s->file, SW_READ_STATE, SW_EXIT_FILE,
+	expect_read(s->file, SW_READ_STATE, SW_EXIT_PERM,
 		    "refused: file owned by uid 65534, not uid 0");
-	expect_read(s->file, SW_READ_OWNED, SW_EXIT_FILE,
+	expect_read(s->file, SW_READ_OWNED, SW_EXIT_PERM,
 		    "refused: file owned by uid 65534");
 	assert_int_equal(chown(s->file, 0, 0), 0);
 	assert_int_equal(chown(s->state, 65534, 65534), 0);
-	expect_read(s->file, SW_READ_STATE, SW_EXIT_FILE,
+	expect_read(s->file, SW_READ_STATE, SW_EXIT_PERM,
 		    "refused: directory owned by uid 65534, not uid 0");
 	sw_err_clear(&e);
 	assert_int_equal(sw_file_write_atomic(s->file, buf, sizeof(buf), true,
-					      &e), SW_EXIT_FILE);
+					      &e), SW_EXIT_PERM);
 	assert_non_null(strstr(e.msg, "directory owned by uid 65534"));
 }
 
@@ -581,6 +716,7 @@ int main(void)
 		cmocka_unit_test(test_check_names),
 		cmocka_unit_test(test_accel_units),
 		cmocka_unit_test(test_score),
+		cmocka_unit_test(test_parse_score),
 		cmocka_unit_test_setup_teardown(test_atomic_write,
 						scratch_setup, scratch_teardown),
 		cmocka_unit_test_setup_teardown(test_refuses_symlink,
@@ -588,6 +724,10 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_read_trust,
 						scratch_setup, scratch_teardown),
 		cmocka_unit_test_setup_teardown(test_read_oversized,
+						scratch_setup, scratch_teardown),
+		cmocka_unit_test_setup_teardown(test_stale_temp_removed,
+						scratch_setup, scratch_teardown),
+		cmocka_unit_test_setup_teardown(test_no_symlink_dir_bypass,
 						scratch_setup, scratch_teardown),
 	};
 
