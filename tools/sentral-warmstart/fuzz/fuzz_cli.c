@@ -50,7 +50,9 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 		return;
 	if (!*o->state_dir || (o->file && !*o->file))
 		abort();
-	if (o->cmd == SW_CMD_NONE || o->cmd > SW_CMD_SHOW)
+	if (o->cmd == SW_CMD_NONE || o->cmd > SW_CMD_KEY)
+		abort();
+	if (o->udev && (o->cmd != SW_CMD_KEY || o->i2c_dev))
 		abort();
 	if (o->cmd == SW_CMD_SHOW && (!o->file || o->device || o->i2c_dev))
 		abort();
