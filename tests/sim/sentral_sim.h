@@ -186,8 +186,6 @@ struct sentral_sim {
 	u32 upload_ms;
 	u16 ram_version;
 
-	struct i2c_adapter adap;
-	struct i2c_client *client;
 	struct fwnode_handle *fwnode;
 	struct irq_domain *domain;
 	struct dentry *debugfs;

@@ -8,24 +8,74 @@
  * §1). One "em7180" client with a data-ready interrupt from an irq_sim
  * domain is created at load unless create=0. Knobs and statistics live in
  * debugfs under sentral-sim/; see tests/sim/README.md.
+ *
+ * For tests of several chips, adapters=N adds adapters "sentral-sim-1"...
+ * with a chip each, and mux_channels=N one more adapter "sentral-sim-mux"
+ * with a simulated I2C mux at 0x70 and a chip at 0x28 behind each channel.
+ * Every adapter has a platform device of its own as parent, as a real
+ * controller has.
  */
 #include <linux/debugfs.h>
 #include <linux/i2c.h>
+#include <linux/i2c-mux.h>
 #include <linux/interrupt.h>
 #include <linux/irq.h>
 #include <linux/irq_sim.h>
 #include <linux/irq_work.h>
 #include <linux/irqdomain.h>
 #include <linux/module.h>
+#include <linux/platform_device.h>
 #include <linux/slab.h>
+#include <linux/version.h>
 
 #include "sentral_sim.h"
 
+/*
+ * Linux 6.1: the one-argument probe is .probe_new (until 6.3), and a mux
+ * channel takes an adapter class (until 6.10).
+ */
+#if LINUX_VERSION_CODE < KERNEL_VERSION(6, 3, 0)
+#define SIM_I2C_PROBE		probe_new
+#else
+#define SIM_I2C_PROBE		probe
+#endif
+#if LINUX_VERSION_CODE < KERNEL_VERSION(6, 10, 0)
+#define sim_mux_add_adapter(muxc, chan)	i2c_mux_add_adapter(muxc, 0, chan, 0)
+#else
+#define sim_mux_add_adapter(muxc, chan)	i2c_mux_add_adapter(muxc, 0, chan)
+#endif
+
+#define SIM_MAX_ADAPTERS	4
+#define SIM_MAX_CHANNELS	4
+#define SIM_MUX_ADDR		0x70
+
 static bool create = true;
 module_param(create, bool, 0444);
-MODULE_PARM_DESC(create, "create the em7180 client at 0x28 on load (default 1)");
+MODULE_PARM_DESC(create, "create the em7180 clients at 0x28 on load (default 1)");
 
-static struct sentral_sim *sim_chip;
+static unsigned int adapters = 1;
+module_param(adapters, uint, 0444);
+MODULE_PARM_DESC(adapters, "adapters with a chip each (1-4, default 1)");
+
+static unsigned int mux_channels;
+module_param(mux_channels, uint, 0444);
+MODULE_PARM_DESC(mux_channels, "channels of a mux at 0x70 on one more adapter, a chip behind each (0-4, default 0)");
+
+/*
+ * One adapter: a chip at 0x28, or a mux at 0x70 whose selected channel
+ * (sel, under the adapter's bus lock) leads to chip[sel].
+ */
+struct sim_bus {
+	struct platform_device *pdev;
+	struct i2c_adapter adap;
+	struct sentral_sim *chip[SIM_MAX_CHANNELS];
+	unsigned int nchips;
+	struct i2c_client *client;	/* the em7180, or the mux */
+	bool mux;
+	int sel;			/* -1: no channel connected */
+};
+
+static struct sim_bus *sim_buses[SIM_MAX_ADAPTERS + 1];
 
 /* One bit time at 400 kHz, in ns */
 #define SIM_BIT_NS	2500
@@ -79,13 +129,18 @@ static void sim_msg_write(struct sentral_sim *sim, struct i2c_msg *msg,
 
 static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 {
-	struct sentral_sim *sim = i2c_get_adapdata(adap);
+	struct sim_bus *bus = i2c_get_adapdata(adap);
+	struct sentral_sim *sim;
 	unsigned long flags;
 	u64 bits = 1;		/* the stop condition */
 	ktime_t now;
 	bool fire;
 	int i;
 
+	/* Behind a mux, only the connected channel's chip answers. */
+	if (bus->mux && bus->sel < 0)
+		return -ENXIO;
+	sim = bus->chip[bus->mux ? bus->sel : 0];
 	for (i = 0; i < num; i++) {
 		if (msgs[i].addr != SIM_I2C_ADDR ||
 		    (msgs[i].flags & I2C_M_TEN))
@@ -196,69 +251,235 @@ static void sim_stop(struct sentral_sim *sim)
 	hrtimer_cancel(&sim->timer);
 }
 
-static int __init sim_init(void)
+static struct sentral_sim *sim_chip_new(const char *dir)
 {
-	struct i2c_board_info info = {
-		I2C_BOARD_INFO("em7180", SIM_I2C_ADDR),
-	};
 	struct sentral_sim *sim;
 	int ret;
 
 	sim = kzalloc(sizeof(*sim), GFP_KERNEL);
 	if (!sim)
-		return -ENOMEM;
+		return ERR_PTR(-ENOMEM);
 	sim_model_init(sim);
-
 	ret = sim_irq_init(sim);
-	if (ret)
-		goto err_free;
-
-	sim->adap.owner = THIS_MODULE;
-	sim->adap.algo = &sim_algo;
-	strscpy(sim->adap.name, "sentral-sim", sizeof(sim->adap.name));
-	i2c_set_adapdata(&sim->adap, sim);
-	ret = i2c_add_adapter(&sim->adap);
-	if (ret)
-		goto err_irq;
-
-	sim->debugfs = debugfs_create_dir("sentral-sim", NULL);
+	if (ret) {
+		kfree(sim);
+		return ERR_PTR(ret);
+	}
+	sim->debugfs = debugfs_create_dir(dir, NULL);
 	sim_debugfs_init(sim);
+	return sim;
+}
 
-	if (create) {
-		info.irq = sim->virq;
-		sim->client = i2c_new_client_device(&sim->adap, &info);
-		if (IS_ERR(sim->client)) {
-			ret = PTR_ERR(sim->client);
-			goto err_adapter;
+static void sim_chip_free(struct sentral_sim *sim)
+{
+	debugfs_remove_recursive(sim->debugfs);
+	sim_stop(sim);
+	sim_irq_exit(sim);
+	kfree(sim);
+}
+
+static struct i2c_client *sim_em7180_new(struct i2c_adapter *adap,
+					 struct sentral_sim *sim)
+{
+	struct i2c_board_info info = {
+		I2C_BOARD_INFO("em7180", SIM_I2C_ADDR),
+		.irq = sim->virq,
+	};
+
+	return i2c_new_client_device(adap, &info);
+}
+
+/* The mux: channel chan connects chip[chan]; idle, none is connected. */
+static int sim_mux_select(struct i2c_mux_core *muxc, u32 chan)
+{
+	struct sim_bus *bus = i2c_mux_priv(muxc);
+
+	bus->sel = chan;
+	return 0;
+}
+
+static int sim_mux_deselect(struct i2c_mux_core *muxc, u32 chan)
+{
+	struct sim_bus *bus = i2c_mux_priv(muxc);
+
+	bus->sel = -1;
+	return 0;
+}
+
+static void sim_mux_del(void *muxc)
+{
+	i2c_mux_del_adapters(muxc);
+}
+
+static int sim_mux_probe(struct i2c_client *client)
+{
+	struct sim_bus *bus = i2c_get_adapdata(client->adapter);
+	struct i2c_mux_core *muxc;
+	unsigned int i;
+	int ret;
+
+	muxc = i2c_mux_alloc(client->adapter, &client->dev, bus->nchips, 0, 0,
+			     sim_mux_select, sim_mux_deselect);
+	if (!muxc)
+		return -ENOMEM;
+	muxc->priv = bus;
+	ret = devm_add_action(&client->dev, sim_mux_del, muxc);
+	if (ret)
+		return ret;
+	for (i = 0; i < bus->nchips; i++) {
+		ret = sim_mux_add_adapter(muxc, i);
+		if (ret)
+			return ret;
+		/* Removed with its channel's adapter. */
+		if (create &&
+		    IS_ERR(sim_em7180_new(muxc->adapter[i], bus->chip[i])))
+			return -ENODEV;
+	}
+	return 0;
+}
+
+static const struct i2c_device_id sim_mux_id[] = {
+	{ "sentral-sim-mux" },
+	{ }
+};
+
+static struct i2c_driver sim_mux_driver = {
+	.driver = { .name = "sentral-sim-mux" },
+	.SIM_I2C_PROBE = sim_mux_probe,
+	.id_table = sim_mux_id,
+};
+
+static void sim_bus_free(struct sim_bus *bus)
+{
+	unsigned int i;
+
+	i2c_unregister_device(bus->client);
+	/* also removes clients added through new_device */
+	i2c_del_adapter(&bus->adap);
+	platform_device_unregister(bus->pdev);
+	for (i = 0; i < bus->nchips; i++)
+		sim_chip_free(bus->chip[i]);
+	kfree(bus);
+}
+
+/*
+ * Adapter n (0: "sentral-sim", as with one chip), or with mux the mux
+ * adapter. Debugfs: sentral-sim, sentral-sim-N, sentral-sim-mux-CHANNEL.
+ */
+static struct sim_bus *sim_bus_new(unsigned int n, bool mux)
+{
+	struct i2c_board_info mux_info = {
+		I2C_BOARD_INFO("sentral-sim-mux", SIM_MUX_ADDR),
+	};
+	char name[32];
+	struct sim_bus *bus;
+	unsigned int i;
+	int ret;
+
+	bus = kzalloc(sizeof(*bus), GFP_KERNEL);
+	if (!bus)
+		return ERR_PTR(-ENOMEM);
+	bus->mux = mux;
+	bus->sel = -1;
+	bus->nchips = mux ? mux_channels : 1;
+	for (i = 0; i < bus->nchips; i++) {
+		if (mux)
+			snprintf(name, sizeof(name), "sentral-sim-mux-%u", i);
+		else if (n)
+			snprintf(name, sizeof(name), "sentral-sim-%u", n);
+		else
+			strscpy(name, "sentral-sim", sizeof(name));
+		bus->chip[i] = sim_chip_new(name);
+		if (IS_ERR(bus->chip[i])) {
+			ret = PTR_ERR(bus->chip[i]);
+			bus->nchips = i;
+			goto err;
 		}
 	}
 
-	sim_chip = sim;
-	return 0;
+	if (mux)
+		strscpy(name, "sentral-sim-mux", sizeof(name));
+	else if (n)
+		snprintf(name, sizeof(name), "sentral-sim-%u", n);
+	else
+		strscpy(name, "sentral-sim", sizeof(name));
+	bus->pdev = platform_device_register_simple(name, PLATFORM_DEVID_NONE,
+						    NULL, 0);
+	if (IS_ERR(bus->pdev)) {
+		ret = PTR_ERR(bus->pdev);
+		bus->pdev = NULL;
+		goto err;
+	}
+	bus->adap.owner = THIS_MODULE;
+	bus->adap.algo = &sim_algo;
+	bus->adap.dev.parent = &bus->pdev->dev;
+	strscpy(bus->adap.name, name, sizeof(bus->adap.name));
+	i2c_set_adapdata(&bus->adap, bus);
+	ret = i2c_add_adapter(&bus->adap);
+	if (ret)
+		goto err_pdev;
 
-err_adapter:
-	debugfs_remove_recursive(sim->debugfs);
-	i2c_del_adapter(&sim->adap);
-	sim_stop(sim);
-err_irq:
-	sim_irq_exit(sim);
-err_free:
-	kfree(sim);
-	return ret;
+	if (mux)
+		bus->client = i2c_new_client_device(&bus->adap, &mux_info);
+	else if (create)
+		bus->client = sim_em7180_new(&bus->adap, bus->chip[0]);
+	if (IS_ERR(bus->client)) {
+		ret = PTR_ERR(bus->client);
+		bus->client = NULL;
+		i2c_del_adapter(&bus->adap);
+		goto err_pdev;
+	}
+	return bus;
+
+err_pdev:
+	platform_device_unregister(bus->pdev);
+err:
+	for (i = 0; i < bus->nchips; i++)
+		sim_chip_free(bus->chip[i]);
+	kfree(bus);
+	return ERR_PTR(ret);
+}
+
+static void sim_buses_free(void)
+{
+	int i;
+
+	for (i = ARRAY_SIZE(sim_buses) - 1; i >= 0; i--) {
+		if (sim_buses[i])
+			sim_bus_free(sim_buses[i]);
+		sim_buses[i] = NULL;
+	}
+}
+
+static int __init sim_init(void)
+{
+	unsigned int i;
+	int ret;
+
+	if (adapters < 1 || adapters > SIM_MAX_ADAPTERS ||
+	    mux_channels > SIM_MAX_CHANNELS)
+		return -EINVAL;
+	ret = i2c_add_driver(&sim_mux_driver);
+	if (ret)
+		return ret;
+	for (i = 0; i < adapters + !!mux_channels; i++) {
+		sim_buses[i] = sim_bus_new(i, i == adapters);
+		if (IS_ERR(sim_buses[i])) {
+			ret = PTR_ERR(sim_buses[i]);
+			sim_buses[i] = NULL;
+			sim_buses_free();
+			i2c_del_driver(&sim_mux_driver);
+			return ret;
+		}
+	}
+	return 0;
 }
 module_init(sim_init);
 
 static void __exit sim_exit(void)
 {
-	struct sentral_sim *sim = sim_chip;
-
-	debugfs_remove_recursive(sim->debugfs);
-	i2c_unregister_device(sim->client);
-	/* also removes clients added through new_device */
-	i2c_del_adapter(&sim->adap);
-	sim_stop(sim);
-	sim_irq_exit(sim);
-	kfree(sim);
+	sim_buses_free();
+	i2c_del_driver(&sim_mux_driver);
 }
 module_exit(sim_exit);
 

@@ -412,8 +412,7 @@ static int adapter_key(dev_t rdev, unsigned int addr, char *key, size_t len,
 		return sw_err_set(e, SW_EXIT_OSERR, "cannot use libudev: %s",
 				  strerror(errno));
 	node = udev_device_new_from_devnum(u, 'c', rdev);
-	adap = node ? udev_device_get_parent_with_subsystem_devtype(
-			      node, "i2c", "i2c_adapter") : NULL;
+	adap = node ? sw_udev_i2c_adapter(node) : NULL;
 	if (adap)
 		ret = sw_key_of_adapter(adap, addr,
 					udev_device_get_property_value(node, "ID_PATH"),

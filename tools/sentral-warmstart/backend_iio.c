@@ -371,8 +371,7 @@ static int device_key(struct udev *u, struct iio_be *ib, struct sw_err *e)
 				  ib->b.name, strerror(errno));
 	idp = udev_device_get_property_value(dev, "ID_PATH");
 	copy_str(ib->id_path, sizeof(ib->id_path), idp ? idp : "");
-	client = udev_device_get_parent_with_subsystem_devtype(dev, "i2c",
-							       "i2c_client");
+	client = sw_udev_i2c_client(udev_device_get_parent(dev));
 	if (client) {
 		copy_str(ib->parent, sizeof(ib->parent),
 			 udev_device_get_sysname(client));

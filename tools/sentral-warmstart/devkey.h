@@ -52,8 +52,13 @@ bool sw_key_unit_escape(const char *key, char *out, size_t len);
 struct udev;
 struct udev_device;
 
+/* The I2C client d is or sits below (it belongs to d), or NULL. */
+struct udev_device *sw_udev_i2c_client(struct udev_device *d);
+/* The I2C adapter d is or sits below (it belongs to d), or NULL. */
+struct udev_device *sw_udev_i2c_adapter(struct udev_device *d);
+
 /*
- * The key of the chip at addr on adapter (an "i2c_adapter" device).
+ * The key of the chip at addr on adapter (an I2C adapter device).
  * id_path is udev's ID_PATH of a device below that adapter's controller
  * (NULL when udev has none). Returns SW_EXIT_OK or SW_EXIT_DEVICE.
  */

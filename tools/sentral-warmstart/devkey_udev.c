@@ -60,12 +60,42 @@ static int client_addr(const char *sysname)
 	unsigned long a;
 	char *end;
 
-	if (!dash || strlen(dash + 1) != 4)
+	if (!dash || dash == sysname || strlen(dash + 1) != 4)
 		return -1;
 	a = strtoul(dash + 1, &end, 16);
 	if (*end || a > 0x7f)
 		return -1;
 	return (int)a;
+}
+
+/*
+ * I2C adapters and clients share the "i2c" subsystem and have no DEVTYPE:
+ * the kernel names adapters "i2c-N" and clients "N-00AA".
+ */
+static bool is_i2c(struct udev_device *d)
+{
+	const char *sub = udev_device_get_subsystem(d);
+
+	return sub && !strcmp(sub, "i2c");
+}
+
+static bool is_adapter(struct udev_device *d)
+{
+	return is_i2c(d) && !strncmp(udev_device_get_sysname(d), "i2c-", 4);
+}
+
+static bool is_client(struct udev_device *d)
+{
+	return is_i2c(d) && client_addr(udev_device_get_sysname(d)) >= 0;
+}
+
+/* The nearest ancestor that is an I2C adapter; it belongs to d. */
+static struct udev_device *parent_adapter(struct udev_device *d)
+{
+	while ((d = udev_device_get_parent(d)))
+		if (is_adapter(d))
+			return d;
+	return NULL;
 }
 
 /*
@@ -106,10 +136,7 @@ static bool adapter_mux_hop(struct udev *u, const char *syspath,
 	md = udev_device_new_from_syspath(u, muxpath);
 	if (!md)
 		return false;
-	a = -1;
-	if (udev_device_get_devtype(md) &&
-	    !strcmp(udev_device_get_devtype(md), "i2c_client"))
-		a = client_addr(udev_device_get_sysname(md));
+	a = is_client(md) ? client_addr(udev_device_get_sysname(md)) : -1;
 	if (a >= 0)
 		snprintf(mux, mux_len, "0x%02x", a);
 	else
@@ -141,8 +168,7 @@ int sw_key_of_adapter(struct udev_device *adapter, unsigned int addr,
 			break;
 		if (p.nhops < SW_KEY_MAX_HOPS &&
 		    adapter_mux_hop(u, syspath, mux, sizeof(mux), &chan)) {
-			up = udev_device_get_parent_with_subsystem_devtype(
-				adap, "i2c", "i2c_adapter");
+			up = parent_adapter(adap);
 			if (up) {
 				/* Hops are found leaf first; the key lists them root first. */
 				for (i = p.nhops; i > 0; i--)
@@ -176,14 +202,25 @@ int sw_key_of_adapter(struct udev_device *adapter, unsigned int addr,
 int sw_key_of_client(struct udev_device *client, const char *id_path,
 		     char *key, size_t len, struct sw_err *e)
 {
-	struct udev_device *adap;
-	int addr = client_addr(udev_device_get_sysname(client));
+	struct udev_device *adap = is_client(client) ? parent_adapter(client) : NULL;
 
-	adap = udev_device_get_parent_with_subsystem_devtype(client, "i2c",
-							     "i2c_adapter");
-	if (addr < 0 || !adap)
+	if (!adap)
 		return sw_err_set(e, SW_EXIT_DEVICE,
 				  "%s is not a 7-bit I2C client on an adapter",
 				  udev_device_get_syspath(client));
-	return sw_key_of_adapter(adap, (unsigned int)addr, id_path, key, len, e);
+	return sw_key_of_adapter(adap, (unsigned int)client_addr(
+					 udev_device_get_sysname(client)),
+				 id_path, key, len, e);
+}
+
+struct udev_device *sw_udev_i2c_client(struct udev_device *d)
+{
+	while (d && !is_client(d))
+		d = udev_device_get_parent(d);
+	return d;
+}
+
+struct udev_device *sw_udev_i2c_adapter(struct udev_device *d)
+{
+	return is_adapter(d) ? d : parent_adapter(d);
 }
