@@ -189,6 +189,7 @@ struct sentral_sim {
 	struct fwnode_handle *fwnode;
 	struct irq_domain *domain;
 	struct dentry *debugfs;
+	void *knob_files;		/* sim-debugfs.c's, one per file */
 };
 
 /*
@@ -232,7 +233,8 @@ bool sim_algo_running(struct sentral_sim *sim, ktime_t now);
 /* sim-main.c */
 void sim_fire_irq(struct sentral_sim *sim);
 
-/* sim-debugfs.c */
-void sim_debugfs_init(struct sentral_sim *sim);
+/* sim-debugfs.c: the chip's knobs in debugfs directory dir */
+int sim_debugfs_init(struct sentral_sim *sim, const char *dir);
+void sim_debugfs_exit(struct sentral_sim *sim);
 
 #endif /* SENTRAL_SIM_H */

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: GPL-2.0
 /*
- * debugfs knobs of the simulated EM7180, under sentral-sim/. Every file is
- * described in tests/sim/README.md.
+ * debugfs knobs of a simulated EM7180, in its directory (sentral-sim/ for
+ * the first chip). Every file is described in tests/sim/README.md.
  */
 #include <linux/bitmap.h>
 #include <linux/debugfs.h>
 #include <linux/fs.h>
 #include <linux/kernel.h>
 #include <linux/seq_file.h>
+#include <linux/slab.h>
 #include <linux/string.h>
 #include <linux/uaccess.h>
 
@@ -25,8 +26,11 @@ struct sim_knob {
 	int (*store)(struct sentral_sim *sim, char *buf, ktime_t now);
 };
 
-/* debugfs files carry their knob; there is one chip */
-static struct sentral_sim *sim_dbg;
+/* What a debugfs file carries: one knob of one chip */
+struct sim_knob_file {
+	struct sentral_sim *sim;
+	const struct sim_knob *knob;
+};
 
 static const char * const sim_stream_names[SIM_NSTREAMS] = {
 	[SIM_QUAT] = "quaternion",
@@ -452,8 +456,9 @@ static const struct sim_knob sim_knobs[] = {
 
 static int sim_knob_show(struct seq_file *m, void *unused)
 {
-	const struct sim_knob *knob = m->private;
-	struct sentral_sim *sim = sim_dbg;
+	const struct sim_knob_file *kf = m->private;
+	const struct sim_knob *knob = kf->knob;
+	struct sentral_sim *sim = kf->sim;
 	unsigned long flags;
 	ktime_t now;
 
@@ -476,8 +481,9 @@ static int sim_knob_open(struct inode *inode, struct file *file)
 static ssize_t sim_knob_write(struct file *file, const char __user *ubuf,
 			      size_t count, loff_t *ppos)
 {
-	const struct sim_knob *knob = file_inode(file)->i_private;
-	struct sentral_sim *sim = sim_dbg;
+	const struct sim_knob_file *kf = file_inode(file)->i_private;
+	const struct sim_knob *knob = kf->knob;
+	struct sentral_sim *sim = kf->sim;
 	unsigned long flags;
 	char buf[64];
 	ktime_t now;
@@ -514,13 +520,27 @@ static const struct file_operations sim_knob_fops = {
 	.release = single_release,
 };
 
-void sim_debugfs_init(struct sentral_sim *sim)
+int sim_debugfs_init(struct sentral_sim *sim, const char *dir)
 {
+	struct sim_knob_file *kf;
 	int i;
 
-	sim_dbg = sim;
-	for (i = 0; i < ARRAY_SIZE(sim_knobs); i++)
+	kf = kcalloc(ARRAY_SIZE(sim_knobs), sizeof(*kf), GFP_KERNEL);
+	if (!kf)
+		return -ENOMEM;
+	sim->knob_files = kf;
+	sim->debugfs = debugfs_create_dir(dir, NULL);
+	for (i = 0; i < ARRAY_SIZE(sim_knobs); i++) {
+		kf[i].sim = sim;
+		kf[i].knob = &sim_knobs[i];
 		debugfs_create_file(sim_knobs[i].name, sim_knobs[i].mode,
-				    sim->debugfs, (void *)&sim_knobs[i],
-				    &sim_knob_fops);
+				    sim->debugfs, &kf[i], &sim_knob_fops);
+	}
+	return 0;
+}
+
+void sim_debugfs_exit(struct sentral_sim *sim)
+{
+	debugfs_remove_recursive(sim->debugfs);
+	kfree(sim->knob_files);
 }

@@ -15,7 +15,6 @@
  * Every adapter has a platform device of its own as parent, as a real
  * controller has.
  */
-#include <linux/debugfs.h>
 #include <linux/i2c.h>
 #include <linux/i2c-mux.h>
 #include <linux/interrupt.h>
@@ -265,14 +264,19 @@ static struct sentral_sim *sim_chip_new(const char *dir)
 		kfree(sim);
 		return ERR_PTR(ret);
 	}
-	sim->debugfs = debugfs_create_dir(dir, NULL);
-	sim_debugfs_init(sim);
+	ret = sim_debugfs_init(sim, dir);
+	if (ret) {
+		sim_stop(sim);
+		sim_irq_exit(sim);
+		kfree(sim);
+		return ERR_PTR(ret);
+	}
 	return sim;
 }
 
 static void sim_chip_free(struct sentral_sim *sim)
 {
-	debugfs_remove_recursive(sim->debugfs);
+	sim_debugfs_exit(sim);
 	sim_stop(sim);
 	sim_irq_exit(sim);
 	kfree(sim);
