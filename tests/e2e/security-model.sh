@@ -118,9 +118,18 @@ is "state dir created 0700 root" "$(perm "$STATE")" "700 root root"
 is "state file created 0600 root" "$(perm "$f")" "600 root root"
 nok "nobody cannot list the state dir" as_nobody ls "$STATE"
 nok "nobody cannot read the state file" as_nobody cat "$f"
+# A directory open to others is refused, never chmod'ed: with --state-dir
+# /var/lib the tool would otherwise change a directory other services own.
 chmod 0755 "$STATE"
-ok "save into a root-owned 0755 state dir" sentral-warmstart save --force
-is "which the tool tightens to 0700" "$(perm "$STATE")" "700 root root"
+out=$(sentral-warmstart save --force 2>&1)
+is "save into a root-owned 0755 state dir: refused, exit 77" $? 77
+like "saying what to do" "$out" "group or others have access \(mode 0755\).*chmod 0700"
+is "its mode is left alone" "$(perm "$STATE")" "755 root root"
+mkdir -p /tmp/shared && chmod 0755 /tmp/shared
+out=$(sentral-warmstart --state-dir /tmp/shared save --force 2>&1)
+is "--state-dir naming a shared directory: exit 77" $? 77
+is "which keeps its mode" "$(stat -c %a /tmp/shared)" 755
+chmod 0700 "$STATE"
 
 # The tool gives an unprivileged user nothing: it is not setuid.
 is "the tool is not setuid or setgid" \
@@ -130,6 +139,11 @@ nok "nobody: save fails" as_nobody sentral-warmstart save --force --file /tmp/no
 nok "and writes no file" test -e /tmp/nobody.ws
 nok "nobody: restore fails" as_nobody sentral-warmstart restore
 is "and transfers no parameter" "$(served)" 0
+# The chip's attributes are world-readable: status shows them to anyone.
+out=$(as_nobody sentral-warmstart status 2>&1)
+is "nobody: status exits 0" $? 0
+like "with the chip's part" "$out" "calibration status:  [0-3]"
+like "and says the file needs root" "$out" "saved file: .*needs root"
 
 # A real calibration to work with.
 ok "calibrate by simulated motion" calibrate_by_motion
@@ -154,16 +168,16 @@ echo precious >/tmp/victim
 rm -f "$f"
 ln -s /tmp/victim "$f"
 out=$(sentral-warmstart save --force 2>&1)
-is "save through a symlink at the state path: exit 3" $? 3
+is "save through a symlink at the state path: exit 77" $? 77
 is "the link target is untouched" "$(cat /tmp/victim)" precious
 ok "the link is still a link" test -L "$f"
 rm -f "$f"
 ln -s /tmp/good.ws "$f"
-restore_refused "restore through a symlink to a valid file" 3
+restore_refused "restore through a symlink to a valid file" 77
 rm -f "$f"
 ln -s /tmp/absent.ws "$f"
 out=$(sentral-warmstart save --force 2>&1)
-is "save through a dangling symlink: exit 3" $? 3
+is "save through a dangling symlink: exit 77" $? 77
 nok "its target is not created" test -e /tmp/absent.ws
 rm -f "$f"
 cp -p /tmp/good.ws "$f"
@@ -198,7 +212,7 @@ ok "build the getrandom shim" cc -shared -fPIC -o /tmp/zero-rand.so /tmp/zero-ra
 tmpname=$STATE/.$key.ws.00000000.tmp
 ln -s /tmp/victim "$tmpname"
 out=$(LD_PRELOAD=/tmp/zero-rand.so ZERO_RAND_CALLS=1000 sentral-warmstart save --force 2>&1)
-is "the shim pins the name: every attempt collides, save fails (exit 5)" $? 5
+is "the shim pins the name: every attempt collides, save fails (exit 74)" $? 74
 like "with EEXIST" "$out" "temporary file: File exists"
 out=$(LD_PRELOAD=/tmp/zero-rand.so ZERO_RAND_CALLS=1 sentral-warmstart save --force 2>&1)
 is "a symlink at the first temporary name: save takes another name (exit 0)" $? 0
@@ -219,6 +233,12 @@ ok "an open reader still sees the complete old file" cmp - /tmp/old.ws <&3
 exec 3<&-
 ok "the file was replaced, not rewritten in place" test "$(stat -c %i "$f")" != "$ino"
 is "nothing but the state file: no temporary or lock file" "$(ls -A "$STATE")" "$key.ws"
+# A save killed between its temporary file and the rename leaves the file;
+# the next save removes it (ours by name, unlocked, older than 2 s).
+cp "$f" "$STATE/.$key.ws.0badf00d.tmp"
+touch -d '-1 minute' "$STATE/.$key.ws.0badf00d.tmp"
+ok "save after a killed save" sentral-warmstart save --force
+is "the killed save's temporary file is gone" "$(ls -A "$STATE")" "$key.ws"
 # A write that fails (ENOSPC) leaves the old file as it was.
 mkdir -p /tmp/full
 mount -t tmpfs -o size=8k,mode=0700 tmpfs /tmp/full
@@ -226,7 +246,7 @@ ok "save into a small state dir" sentral-warmstart --state-dir /tmp/full save --
 cp "/tmp/full/$key.ws" /tmp/full-old.ws
 dd if=/dev/zero of=/tmp/full/filler bs=1k count=64 status=none 2>/dev/null
 out=$(sentral-warmstart --state-dir /tmp/full save --force 2>&1)
-is "save on a full file system: exit 5" $? 5
+is "save on a full file system: exit 74" $? 74
 ok "the old file is intact" cmp "/tmp/full/$key.ws" /tmp/full-old.ws
 is "no temporary file left" "$(ls -A /tmp/full | grep -c '\.tmp$')" 0
 umount /tmp/full
@@ -235,31 +255,31 @@ umount /tmp/full
 cp -p /tmp/good.ws "$f"
 ok "the good file restores" sentral-warmstart restore
 chown 65534:65534 "$f"
-restore_refused "a state file owned by another user" 3
+restore_refused "a state file owned by another user" 77
 out=$(sentral-warmstart status 2>&1)
-is "status refuses it too: exit 3" $? 3
+is "status refuses it too: exit 77" $? 77
 chown 0:0 "$f"
 chmod 0666 "$f"
-restore_refused "a world-writable state file" 3
+restore_refused "a world-writable state file" 77
 chmod 0620 "$f"
-restore_refused "a group-writable state file" 3
+restore_refused "a group-writable state file" 77
 chmod 0600 "$f"
 chown 65534:65534 "$STATE"
-restore_refused "a state dir owned by another user" 3
+restore_refused "a state dir owned by another user" 77
 out=$(sentral-warmstart save --force 2>&1)
-is "save into a state dir owned by another user: exit 3" $? 3
+is "save into a state dir owned by another user: exit 77" $? 77
 chown 0:0 "$STATE"
 chmod 0777 "$STATE"
-restore_refused "a world-writable state dir" 3
+restore_refused "a world-writable state dir" 77
 out=$(sentral-warmstart save --force 2>&1)
-is "save into a world-writable state dir: exit 3" $? 3
+is "save into a world-writable state dir: exit 77" $? 77
 chmod 0700 "$STATE"
 cp -p /tmp/good.ws /tmp/other.ws
 chown 65534 /tmp/other.ws
-restore_refused "a --file file owned by another user" 3 --file /tmp/other.ws
+restore_refused "a --file file owned by another user" 77 --file /tmp/other.ws
 chown 0 /tmp/other.ws
 chmod 0666 /tmp/other.ws
-restore_refused "a world-writable --file file" 3 --file /tmp/other.ws
+restore_refused "a world-writable --file file" 77 --file /tmp/other.ws
 ok "save --file into /tmp" sentral-warmstart save --force --file /tmp/mine.ws
 is "leaves the mode of /tmp alone" "$(stat -c %a /tmp)" 1777
 mv "$STATE" /var/lib/sw.real
@@ -267,32 +287,40 @@ mkdir -m 0700 /tmp/evil
 cp -p /tmp/good.ws /tmp/evil/
 mv "/tmp/evil/good.ws" "/tmp/evil/$key.ws"
 ln -s /tmp/evil "$STATE"
-restore_refused "a state dir that is a symlink" 3
+restore_refused "a state dir that is a symlink" 77
 out=$(sentral-warmstart save --force 2>&1)
-is "save through a state dir that is a symlink: exit 3" $? 3
+is "save through a state dir that is a symlink: exit 77" $? 77
+# A trailing slash made the kernel follow the link despite O_NOFOLLOW.
+restore_refused "a symlinked state dir named with a trailing slash" 77 \
+	--state-dir "$STATE/"
+out=$(sentral-warmstart --state-dir "$STATE/" save --force 2>&1)
+is "save through it: exit 77" $? 77
+ok "the file behind the link is untouched" cmp "/tmp/evil/$key.ws" /tmp/good.ws
+nok "and not moved aside" test -e "/tmp/evil/$key.ws.refused"
+restore_refused "a --file in a symlinked directory" 77 --file "$STATE/$key.ws"
 rm "$STATE"
 mv /var/lib/sw.real "$STATE"
 ok "the good file restores again" sentral-warmstart restore
 
 # Wrong sizes and types: refused at once, at most 4 KiB read.
 truncate -s 1T /tmp/huge.ws
-restore_refused "a 1 TiB sparse file" 3 --file /tmp/huge.ws
+restore_refused "a 1 TiB sparse file" 65 --file /tmp/huge.ws
 : >/tmp/empty.ws
-restore_refused "an empty file" 3 --file /tmp/empty.ws
-restore_refused "/dev/zero" 3 --file /dev/zero
-restore_refused "a directory" 3 --file /tmp/evil
+restore_refused "an empty file" 65 --file /tmp/empty.ws
+restore_refused "/dev/zero" 65 --file /dev/zero
+restore_refused "a directory" 65 --file /tmp/evil
 mkfifo -m 0600 /tmp/fifo.ws
-restore_refused "a FIFO with no writer" 3 --file /tmp/fifo.ws
+restore_refused "a FIFO with no writer" 65 --file /tmp/fifo.ws
 mv "$f" /tmp/good2.ws
 mkfifo -m 0600 "$f"
-restore_refused "a FIFO at the state path" 3
+restore_refused "a FIFO at the state path" 65
 out=$(timeout 20 sentral-warmstart save --force 2>&1)
-is "save over a FIFO at the state path: exit 3" $? 3
+is "save over a FIFO at the state path: exit 65" $? 65
 ok "the FIFO is left alone" test -p "$f"
 rm -f "$f"
 mkdir -m 0700 "$f"
 out=$(timeout 20 sentral-warmstart save --force 2>&1)
-is "save over a directory at the state path: exit 3" $? 3
+is "save over a directory at the state path: exit 65" $? 65
 rmdir "$f"
 mv /tmp/good2.ws "$f"
 
@@ -316,10 +344,10 @@ for case in "magic:0:<B:0" "version 2:8:<H:2" "payload size 139:28:<H:139" \
 	"ROM version 0x1234:12:<H:0x1234" "RAM version 0x1234:14:<H:0x1234" "calibration status 4:16:<B:4"; do
 	IFS=: read -r desc off fmt val <<<"$case"
 	forge /tmp/forged.ws "$off" "$fmt" "$val"
-	restore_refused "$desc with a valid CRC" 3 --file /tmp/forged.ws
+	restore_refused "$desc with a valid CRC" 65 --file /tmp/forged.ws
 done
 forge /tmp/forged.ws 32 '<I' 0x7f800000
-restore_refused "--force does not override the file checks" 3 --file /tmp/forged.ws --force
+restore_refused "--force does not override the file checks" 65 --file /tmp/forged.ws --force
 forge /tmp/forged.ws 10 '<B' 0x81
 before=$(served)
 out=$(sentral-warmstart restore --file /tmp/forged.ws --force 2>&1)
@@ -364,7 +392,7 @@ is "transfer mode ended" "$(dbg_get state transfer)" 0
 is "algorithm running" "$(dbg_get state running)" 1
 t0=$(date +%s%N)
 out=$(timeout 20 sentral-warmstart restore --file /tmp/good.ws 2>&1)
-is "restore with a chip that never acknowledges: exit 5" $? 5
+is "restore with a chip that never acknowledges: exit 74" $? 74
 ms=$((($(date +%s%N) - t0) / 1000000))
 ok "within 3 s ($ms ms)" test "$ms" -lt 3000
 knob ack_never 0
@@ -384,7 +412,7 @@ is "the driver hands it to root as it is" \
 	"$(dd if="$DEV/calibration_data" bs=4096 count=1 status=none | blob_words | awk '{ print $20 }')" \
 	0x7fc00000
 out=$(sentral-warmstart save --force --file /tmp/nan.ws 2>&1)
-is "save of a NaN read from the chip: exit 5" $? 5
+is "save of a NaN read from the chip: exit 74" $? 74
 like "and says why" "$out" "not a finite number; not saving"
 nok "no file written" test -e /tmp/nan.ws
 # A firmware upload that never completes: probe gives up in bounded time.

@@ -2,10 +2,12 @@
 # SPDX-License-Identifier: GPL-2.0-only
 #
 # sentral-warmstart's i2c-dev backend with the em7180 driver unbound: the
-# polite refusal while it is bound, calibrate and save over i2c-dev, a power
-# cycle, restore, the chip's parameters equal to the file, transfer mode
-# ended on every path (acknowledge never comes, NACK), accel-cal writing
-# parameters 27..29 as the seed's Table 1 floats.
+# polite refusal while it is bound (the kernel's own check, on the node's
+# device number whatever its name), calibrate and save over i2c-dev, a
+# power cycle, restore, the chip's parameters equal to the file, transfer
+# mode ended on every path (acknowledge never comes, NACK, SIGTERM, SIGHUP)
+# with a message saying what a failed restore left in the chip, accel-cal
+# writing parameters 27..29 as the seed's Table 1 floats.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -16,23 +18,37 @@ bus=$(sim_bus)
 i2c="--i2c /dev/i2c-$bus"
 
 out=$(sentral-warmstart $i2c status 2>&1)
-is "refused while the driver is bound: exit 2" $? 2
+is "refused while the driver is bound: exit 69" $? 69
 like "naming the client and the way out" "$out" \
 	"a kernel driver is bound to $client .*unbind.*--force"
 ok "--force overrides (status only reads)" sentral-warmstart $i2c --force status
+driver_key=$(sentral-warmstart key)
+# The bus is the node's device number, not a number in its name.
+mknod /tmp/i2c-7 c 89 "$bus"
+out=$(sentral-warmstart --i2c /tmp/i2c-7 status 2>&1)
+is "a node named i2c-7 for bus $bus: still refused, exit 69" $? 69
+like "naming the real client" "$out" "a kernel driver is bound to $client "
+ln -s "/dev/i2c-$bus" /tmp/sim-bus
+out=$(sentral-warmstart --i2c /tmp/sim-bus status 2>&1)
+is "a symlink to the node: refused the same way, exit 69" $? 69
+like "naming the client" "$out" "a kernel driver is bound to $client "
+out=$(sentral-warmstart --i2c /dev/null status 2>&1)
+is "not an i2c-dev node: exit 64" $? 64
+like "and says so" "$out" "not an i2c-dev character device"
 
 ok "unbind the driver" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/unbind"
 nok "no em7180 IIO device any more" em7180_dir
 out=$(sentral-warmstart status 2>&1)
-is "driver backend without a device: exit 2" $? 2
+is "driver backend without a device: exit 69" $? 69
 like "and says to use --i2c" "$out" "no em7180 IIO device found.*--i2c"
 
 json=$(sentral-warmstart $i2c status --json)
 is "status over i2c-dev: exit 0" $? 0
 like "reads the identity" "$json" '"backend":"i2c",.*"product_id":128,"revision_id":2,'
-is "key is the client name" "$(echo "$json" | json_field key)" "$client"
+is "the key over i2c-dev is the driver's key" \
+	"$(echo "$json" | json_field key)" "$driver_key"
 out=$(sentral-warmstart $i2c --address 0x29 status 2>&1)
-is "nothing at 0x29: exit 2" $? 2
+is "nothing at 0x29: exit 69" $? 69
 
 # The driver stopped the chip when it was unbound: start it as a host does.
 ok "start the chip (rates, run)" chip_run "$bus"
@@ -86,17 +102,47 @@ is "parameters 27..29 are Table 1 bit for bit" \
 # Faults: the transfer is always ended.
 knob ack_never 1
 out=$(sentral-warmstart $i2c save --force --file /tmp/x.ws 2>&1)
-is "acknowledge never comes: exit 5" $? 5
+is "acknowledge never comes: exit 74" $? 74
 like "says which parameter" "$out" "parameter 1 not acknowledged"
 is "transfer mode ended anyway" "$(dbg_get state transfer)" 0
 is "algorithm running" "$(dbg_get state running)" 1
 nok "no file written" test -e /tmp/x.ws
 knob ack_never 0
-knob nack_at 12
+knob ack_latency_us 500
+knob nack_at 40
 out=$(sentral-warmstart $i2c restore --file /tmp/i2c.ws 2>&1)
-is "NACK in the middle of a restore: exit 5" $? 5
+is "NACK in the middle of a restore: exit 74" $? 74
 knob nack_at 0
+echo "$out" | sed 's/^/# /'
+like "says what the chip now holds and what to do" "$out" \
+	"parameters 1-[0-9]+ hold the new values, [0-9]+ may or may not, [0-9]+-35 still the old ones: the chip's calibration is mixed; run the same command again, or power-cycle"
 is "transfer mode ended after the NACK" "$(dbg_get state transfer)" 0
+ok "and the next restore works" sentral-warmstart $i2c restore --file /tmp/i2c.ws
+
+# A signal in the middle of a transfer: the batch stops between parameters,
+# transfer mode ends, then the tool dies of the signal.
+knob ack_latency_us 100000
+sentral-warmstart $i2c restore --file /tmp/i2c.ws >/tmp/sig.out 2>&1 &
+pid=$!
+wait_for 5 grep -qx 'transfer 1' "$SIM_DBG/state"
+sleep 0.5
+kill -TERM $pid
+wait $pid
+is "SIGTERM during a restore: the tool dies of it (128 + 15)" $? 143
+like "after saying so" "$(cat /tmp/sig.out)" "interrupted by Terminated.*mixed"
+is "transfer mode ended" "$(dbg_get state transfer)" 0
+is "AlgorithmControl bit 7 clear" "$(i2ctransfer -f -y "$bus" w1@0x28 0x54 r1)" 0x00
+is "algorithm running" "$(dbg_get state running)" 1
+sentral-warmstart $i2c save --force --file /tmp/sig.ws >/tmp/sig.out 2>&1 &
+pid=$!
+wait_for 5 grep -qx 'transfer 1' "$SIM_DBG/state"
+sleep 0.5
+kill -HUP $pid
+wait $pid
+is "SIGHUP during a save: the tool dies of it (128 + 1)" $? 129
+is "transfer mode ended" "$(dbg_get state transfer)" 0
+nok "no file written" test -e /tmp/sig.ws
+knob ack_latency_us 500
 ok "and the next restore works" sentral-warmstart $i2c restore --file /tmp/i2c.ws
 
 ok "bind the driver again" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"

@@ -5,8 +5,11 @@
 # The udev rule (no systemd: RUN+= path) in one boot: nothing to restore at
 # the first probe; after calibrate + save, a re-probe of a power-cycled chip
 # restores it (status 3 without motion, parameters equal to the file); a
-# corrupted file is refused at probe with the message in the kernel log and
-# the chip left alone.
+# corrupted file is refused at probe with the message in the kernel log,
+# the chip left alone and the file moved aside, after which the next good
+# calibration is saved and restored. With systemd (simulated): the device
+# names its units by the key and binds them through an alias whose name
+# matches the units' BindsTo=; the units pass systemd-analyze verify.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -17,13 +20,12 @@ ok "the rule is installed" test -f /etc/udev/rules.d/60-sentral-warmstart.rules
 like "the rule ran at probe: nothing to restore yet" "$(dmesg)" \
 	"sentral-warmstart\[[0-9]+\]: no saved calibration for iio:device"
 
-idpath=$(udevadm info -q property -p "$(readlink -f "$DEV")" | sed -n 's/^ID_PATH=//p')
+props() {
+	udevadm info -q property -p "$(readlink -f "$(em7180_dir)")"
+}
 key=$(sentral-warmstart status --json | json_field key)
-if [ -n "$idpath" ]; then
-	is "the key is udev's ID_PATH" "$key" "$(echo "$idpath" | tr -c 'A-Za-z0-9._\n-' _)"
-else
-	is "no ID_PATH: the key is the client name" "$key" "$client"
-fi
+is "the key: the controller's ID_PATH and the address" "$key" platform-sentral-sim-0x28
+like "the rule computed the same key" "$(props)" "SENTRAL_WARMSTART_KEY=$key"
 f=$STATE/$key.ws
 
 knob gbias_period_ms 600000
@@ -39,26 +41,83 @@ is "chip parameters 1..35 equal the saved payload" "$(sim_ws_params)" "$payload"
 like "the kernel log tells it" "$(dmesg)" \
 	"sentral-warmstart\[[0-9]+\]: restored iio:device[0-9]+ calibration from $f"
 
+# Issue 12.3: a refused file must not end saving.
+cp "$f" /tmp/good.ws
 flip_byte "$f" 100
+cp "$f" /tmp/corrupt.ws
 ok "replug with a corrupted file" replug "$client"
 udevadm settle --timeout=10
 like "refused at probe, the check named in the kernel log" "$(dmesg)" \
-	"sentral-warmstart\[[0-9]+\]: error: $f: refused: bad CRC"
+	"sentral-warmstart\[[0-9]+\]: error: $f: refused: bad CRC .*; the chip was not touched; moved aside to $f.refused for inspection"
 is "chip untouched: not calibrated" "$(cal_status)" 0
 isnt_payload=$(words 18 23 "$(sim_ws_params)")
 ok "chip untouched: magnetic coefficients are not the file's" \
 	test "$isnt_payload" != "$(words 18 23 "$payload")"
+ok "the refused file is kept, byte for byte" cmp "$f.refused" /tmp/corrupt.ws
+nok "and no longer in the way" test -e "$f"
+out=$(sentral-warmstart save 2>&1)
+is "before calibration, the stop action's save: the policy says no, exit 0" $? 0
+like "saying why" "$out" "not saving .*calibration incomplete"
+ok "the chip learns a new calibration" calibrate_by_motion
+ok "the stop action's save writes it" sentral-warmstart --device "$key" save --if-present
+ok "a new, valid file in its place" sentral-warmstart show "$f"
+ok "replug: the new calibration is restored at probe" replug "$client"
+udevadm settle --timeout=10
+is "calibration_status 3 without motion" "$(cal_status)" 3
+is "the chip holds the new file's payload" "$(sim_ws_params)" "$(file_payload_words "$f")"
 
-# With systemd running, the rule hands over to the template unit instead.
+# With systemd running, the rule hands over to the units instead.
 mkdir -p /run/systemd/system
 before=$(dmesg | grep -c 'sentral-warmstart\[')
 ok "replug as if systemd were running" replug "$client"
 udevadm settle --timeout=10
-props=$(udevadm info -q property -p "$(readlink -f "$(em7180_dir)")")
-like "SYSTEMD_WANTS names the unit after the key" "$props" \
-	"SYSTEMD_WANTS=sentral-warmstart@${idpath:-$key}\.service"
-like "tagged for systemd" "$props" "TAGS=.*:systemd:"
+unit=sentral-warmstart@$(systemd-escape "$key").service
+like "SYSTEMD_WANTS names the saving unit after the key" "$(props)" \
+	"SYSTEMD_WANTS=$(sed 's/\\/\\\\/g' <<<"$unit")"
+like "tagged for systemd" "$(props)" "CURRENT_TAGS=.*:systemd:"
+alias=$(props | sed -n 's/^SYSTEMD_ALIAS=//p')
+is "the device unit's alias is named by the key" "$alias" "/sys/subsystem/sentral-warmstart/$key"
+is "the tool was not run directly" "$(dmesg | grep -c 'sentral-warmstart\[')" "$before"
+udevadm trigger --action=change "$(readlink -f "$(em7180_dir)")"
+udevadm settle --timeout=10
+like "after a change event: still the same unit" "$(props)" \
+	"SYSTEMD_WANTS=$(sed 's/\\/\\\\/g' <<<"$unit")"
+like "still tagged for systemd (else systemd would stop the units)" "$(props)" \
+	"CURRENT_TAGS=.*:systemd:"
 is "the tool was not run directly" "$(dmesg | grep -c 'sentral-warmstart\[')" "$before"
 rmdir /run/systemd/system
+
+# The units: what udev names is what they bind to and pass to the tool.
+units=/tmp/units
+mkdir -p $units
+for u in "$SENTRAL_ROOT"/tools/sentral-warmstart/systemd/*.service.in; do
+	sed "s|@SBINDIR@|$SENTRAL_ROOT/tools/sentral-warmstart|g" "$u" \
+		>"$units/$(basename "$u" .in)"
+done
+inst=${unit#sentral-warmstart@}
+inst=${inst%.service}
+out=$(cd $units && systemd-analyze verify --man=no "$units/$unit" \
+	"$units/sentral-warmstart-restore@$inst.service" 2>&1)
+is "systemd-analyze verify: clean" "$out" ""
+for u in sentral-warmstart@.service sentral-warmstart-restore@.service; do
+	binds=$(sed -n 's/^BindsTo=//p' "$units/$u")
+	is "$u binds to the device's alias" "${binds//%i/$inst}" \
+		"$(systemd-escape --path --suffix=device "$alias")"
+	like "$u passes the key to the tool (%I unescapes the instance)" \
+		"$(grep '^Exec' "$units/$u")" "--device %I "
+done
+is "the instance unescaped is the key" "$(systemd-escape --unescape "$inst")" "$key"
+is "the saving unit wants the restoring one, and does not require it" \
+	"$(grep -E '^(Wants|Requires|Requisite)=' "$units/sentral-warmstart@.service")" \
+	"Wants=sentral-warmstart-restore@%i.service"
+like "the restore runs at start, fails on a refused file" \
+	"$(grep '^Exec' "$units/sentral-warmstart-restore@.service")" \
+	"^ExecStart=[^-].* restore --if-present$"
+like "the save runs at stop and a failure shows (no '-')" \
+	"$(grep '^Exec' "$units/sentral-warmstart@.service")" \
+	"^ExecStop=[^-].* save --if-present$"
+is "both units have the same sandbox" \
+	"$(sed -n '/^StateDirectory=/,$p' "$units/sentral-warmstart@.service" | md5sum)" \
+	"$(sed -n '/^StateDirectory=/,$p' "$units/sentral-warmstart-restore@.service" | md5sum)"
 
 done_testing

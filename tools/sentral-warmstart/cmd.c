@@ -220,6 +220,7 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 		     const uint8_t *blob, struct sw_err *e)
 {
 	struct sw_policy_in pin = { 0 };
+	struct sw_err lerr;
 	uint8_t out[SW_FILE_SIZE];
 	char path[4096], why[256], oldwhy[256];
 	struct sw_file old, nf;
@@ -240,10 +241,12 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 				  b->name, bad, sw_param_name(bad));
 	migrate_legacy(b, o, env);
 	sw_file_path(o, b, path, sizeof(path));
+	sw_err_clear(&lerr);
 	ret = load_existing(o, path, &nf.chip, &old, &pin.have_old, oldwhy,
-			    sizeof(oldwhy), NULL, e);
-	if (ret)
-		return ret;
+			    sizeof(oldwhy), NULL, &lerr);
+	/* A missing state directory is created by the write below. */
+	if (ret && ret != SW_EXIT_STATEDIR)
+		return sw_err_set(e, ret, "%s", lerr.msg);
 
 	pin.status = cs->status;
 	pin.score_raw = cs->score_raw;
@@ -444,6 +447,10 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 	if (ret && geteuid() != 0 &&
 	    (ret == SW_EXIT_PERM || err == EACCES)) {
 		snprintf(why, sizeof(why), "needs root to read (%s)", ferr.msg);
+		ret = SW_EXIT_OK;
+	}
+	if (ret == SW_EXIT_STATEDIR) {
+		snprintf(why, sizeof(why), "%s", ferr.msg);
 		ret = SW_EXIT_OK;
 	}
 	if (ret)

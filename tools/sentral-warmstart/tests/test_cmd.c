@@ -470,6 +470,14 @@ static void test_restore_missing_state_dir(void **state)
 	assert_non_null(strstr(c->e.msg, "does not exist"));
 	assert_null(strstr(out_text(c), "nothing to restore"));
 	assert_int_equal(c->fb.writes, 0);
+	/* status says so; save creates it (0700). */
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "state directory"));
+	assert_int_equal(save(c), SW_EXIT_OK);
+	snprintf(absent, sizeof(absent), "%s/absent/platform-sentral-sim-0x28.ws",
+		 c->dir);
+	assert_int_equal(access(absent, F_OK), 0);
 }
 
 /*
