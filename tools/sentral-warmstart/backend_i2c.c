@@ -501,7 +501,7 @@ int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
 		free(ib);
 		return ret;
 	}
-	/* Before 1.1 the key was the kernel's name of the client. */
+	/* Earlier versions named the file by the kernel's name of the client. */
 	sw_sanitize_key(client, ib->b.legacy_key[1], sizeof(ib->b.legacy_key[1]));
 	ib->fd = fd;
 	ib->addr = o->addr;

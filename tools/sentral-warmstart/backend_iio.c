@@ -381,7 +381,7 @@ static int device_key(struct udev *u, struct iio_be *ib, struct sw_err *e)
 		sw_sanitize_key(ib->b.name, ib->b.key, sizeof(ib->b.key));
 	}
 	udev_device_unref(dev);
-	/* What versions before 1.1 named the file: ID_PATH, else the client. */
+	/* What earlier versions named the file: ID_PATH, else the client. */
 	if (ib->id_path[0])
 		sw_sanitize_key(ib->id_path, ib->b.legacy_key[0],
 				sizeof(ib->b.legacy_key[0]));
@@ -408,8 +408,8 @@ static bool device_matches(const char *want, const struct iio_device *dev,
 }
 
 /*
- * Before 1.1, chips on one controller shared its ID_PATH as their key:
- * such a file belongs to none of them in particular, so it is not
+ * Earlier versions keyed files by ID_PATH, which chips on one controller
+ * share: such a file belongs to none of them in particular, so it is not
  * migrated when another em7180 has the same ID_PATH.
  */
 static void drop_shared_legacy(struct udev *u, struct iio_context *ctx,

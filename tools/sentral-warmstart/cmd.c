@@ -184,8 +184,8 @@ static bool legacy_path(const struct sw_opts *o, const struct sw_backend *b,
 }
 
 /*
- * Before 1.1 the key was udev's ID_PATH or the I2C client's name: move a
- * file saved under one of those to the new key, once. Only the commands
+ * Earlier versions keyed files by udev's ID_PATH or the I2C client's
+ * name: move a file saved under one of those to the new key, once. Only the commands
  * that write the state directory do; a failure is reported and the file
  * is left where it is (it cannot be lost).
  */
