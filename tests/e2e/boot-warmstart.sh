@@ -8,7 +8,10 @@
 #   2. udev restores at probe: in_magn_calibration_auto_status is 3 without any motion
 #      and the chip's blob equals the saved payload;
 #   3. with the file corrupted, the restore at probe is refused, the message
-#      is in the kernel log and the chip is left alone.
+#      is in the kernel log, the chip is left alone and the file is moved
+#      aside; the chip calibrates again and the save (the unit's stop
+#      action) writes a new file;
+#   4. that new calibration is restored at probe.
 # The host script calls itself inside the machine with the boot's name.
 set -u
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
@@ -40,11 +43,22 @@ if [ "${1:-}" = --inside ]; then
 		;;
 	third)
 		like "refused at probe, logged with the check" "$(dmesg)" \
-			"error: $f: refused: bad CRC"
+			"error: $f: refused: bad CRC.*moved aside to $f.refused"
 		is "chip untouched: not calibrated" "$(cal_status)" 0
 		ok "chip untouched: magnetic coefficients are not the file's" \
 			test "$(words 18 23 "$(sim_ws_params)")" != \
-			"$(words 18 23 "$(file_payload_words "$f")")"
+			"$(words 18 23 "$(file_payload_words "$f.refused")")"
+		ok "calibrated again" calibrate_by_motion
+		ok "the stop action saves the new calibration" \
+			sentral-warmstart --device "$key" save --if-present
+		ok "a valid file again" sentral-warmstart show "$f"
+		;;
+	fourth)
+		like "the new calibration restored at probe" "$(dmesg)" \
+			"restored iio:device[0-9]+ calibration from $f"
+		is "calibration_status 3 without motion" "$(cal_status)" 3
+		is "the chip's blob equals the new file's payload" \
+			"$(blob_words <"$DEV/warmstart")" "$(file_payload_words "$f")"
 		;;
 	esac
 	done_testing
@@ -74,5 +88,9 @@ f=$(ls "$state"/*.ws | head -n1)
 b=$(od -An -tu1 -j 100 -N1 "$f" | tr -d ' ')
 printf "$(printf '\\%03o' $((b ^ 0x10)))" |
 	dd of="$f" bs=1 seek=100 count=1 conv=notrunc status=none
-boot "boot 3: corrupted file refused" third
+boot "boot 3: corrupted file refused, a new calibration saved" third
+is "the refused file kept on the host, the new one in its place" \
+	"$(cd "$state" && ls)" "$(basename "$f")
+$(basename "$f").refused"
+boot "boot 4: the new calibration restored" fourth
 done_testing
