@@ -58,7 +58,7 @@ if [ "${1:-}" = --inside ]; then
 			"restored iio:device[0-9]+ calibration from $f"
 		is "calibration_status 3 without motion" "$(cal_status)" 3
 		is "the chip's blob equals the new file's payload" \
-			"$(blob_words <"$DEV/warmstart")" "$(file_payload_words "$f")"
+			"$(blob_words <"$DEV/calibration_data")" "$(file_payload_words "$f")"
 		;;
 	esac
 	done_testing

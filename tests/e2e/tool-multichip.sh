@@ -44,8 +44,8 @@ udev_prop() {
 	udevadm info -q property -p "$(readlink -f "$1")" | sed -n "s/^$2=//p"
 }
 good_on() {
-	[ "$(cat "$1/calibration_status")" = 3 ] &&
-		awk '{ exit !($1 <= 3.0) }' "$1/calibration_score"
+	[ "$(cat "$1/in_magn_calibration_auto_status")" = 3 ] &&
+		awk '{ exit !($1 <= 3.0) }' "$1/in_magn_calibration_score"
 }
 
 n=$(for d in /sys/bus/iio/devices/iio:device*; do cat "$d/name"; done | grep -cx em7180)
@@ -95,8 +95,8 @@ for k in $keys; do
 	echo "$client" >/sys/bus/i2c/drivers/em7180/bind
 	udevadm settle --timeout=10
 	d=$(dev_of "$k")
-	is "$k: calibration_status 3 after bind, without motion" \
-		"$(cat "$d/calibration_status")" 3
+	is "$k: calibration status 3 after bind, without motion" \
+		"$(cat "$d/in_magn_calibration_auto_status")" 3
 	is "$k: the chip holds its own file's blob" "$(sim_ws_params)" \
 		"$(file_payload_words "$STATE/$k.ws")"
 done
