@@ -25,24 +25,9 @@
 #include <linux/module.h>
 #include <linux/platform_device.h>
 #include <linux/slab.h>
-#include <linux/version.h>
 
 #include "sentral_sim.h"
-
-/*
- * Linux 6.1: the one-argument probe is .probe_new (until 6.3), and a mux
- * channel takes an adapter class (until 6.10).
- */
-#if LINUX_VERSION_CODE < KERNEL_VERSION(6, 3, 0)
-#define SIM_I2C_PROBE		probe_new
-#else
-#define SIM_I2C_PROBE		probe
-#endif
-#if LINUX_VERSION_CODE < KERNEL_VERSION(6, 10, 0)
-#define sim_mux_add_adapter(muxc, chan)	i2c_mux_add_adapter(muxc, 0, chan, 0)
-#else
-#define sim_mux_add_adapter(muxc, chan)	i2c_mux_add_adapter(muxc, 0, chan)
-#endif
+#include "sim_compat.h"
 
 #define SIM_MAX_ADAPTERS	4
 #define SIM_MAX_CHANNELS	4
