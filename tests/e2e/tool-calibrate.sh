@@ -93,7 +93,7 @@ spin_times_out() {
 	local mode=$1 cov
 	shift
 	calibrate "$mode" spin 12 "$@"
-	is "$mode, spin: times out, exit 6" $rc 6
+	is "$mode, spin: times out, exit 75" $rc 75
 	is "$mode, spin: the last event is a timeout" "$(echo "$last" | field event)" timeout
 	ok "$mode, spin: status below 3" test "$(echo "$last" | field status)" -lt 3
 	is "$mode, spin: the samples lie in a plane" "$(echo "$last" | field fit)" planar

@@ -189,7 +189,7 @@ int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 	int shown_status = -1, shown_best = -1, ret;
 	unsigned int shown_cov = 0;
 	char hint[256], path[4096];
-	bool reached = false;
+	bool reached = false, saved;
 	double ut[3];
 
 	memset(r, 0, sizeof(*r));
@@ -265,11 +265,11 @@ int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 		sw_note(r->env, "Timed out after %u s; keeping the best score reached, %.3f%% (target %.1f%%); %u%% of the sphere covered; %s.",
 			o->timeout_s, sw_score_pct(r->best.score_raw),
 			o->target_score, coverage_pct(r), hint);
-	ret = sw_save_snapshot(b, o, r->env, &r->best, best_blob, e);
+	ret = sw_save_snapshot(b, o, r->env, &r->best, best_blob, &saved, e);
 	if (o->json) {
 		sw_file_path(o, b, path, sizeof(path));
 		fprintf(r->out, "{\"event\":\"%s\",\"status\":%d,\"score\":%.3f,\"file\":",
-			ret ? "not_saved" : "saved", r->best.status,
+			saved ? "saved" : "not_saved", r->best.status,
 			sw_score_pct(r->best.score_raw));
 		sw_json_str(r->out, path);
 		fputs("}\n", r->out);

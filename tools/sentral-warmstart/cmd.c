@@ -217,7 +217,7 @@ static void migrate_legacy(const struct sw_backend *b, const struct sw_opts *o,
 
 int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, const struct sw_cal_state *cs,
-		     const uint8_t *blob, struct sw_err *e)
+		     const uint8_t *blob, bool *saved, struct sw_err *e)
 {
 	struct sw_policy_in pin = { 0 };
 	struct sw_err lerr;
@@ -226,6 +226,8 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 	struct sw_file old, nf;
 	int bad, ret;
 
+	if (saved)
+		*saved = false;
 	memset(&nf, 0, sizeof(nf));
 	ret = b->ops->chip_info(b, &nf.chip, e);
 	if (ret)
@@ -272,6 +274,8 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 	if (ret)
 		return ret;
 	sw_note(env, "saved %s calibration to %s: %s", b->name, path, why);
+	if (saved)
+		*saved = true;
 	return SW_EXIT_OK;
 }
 
@@ -303,7 +307,7 @@ int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
 	    (after.status == before.status &&
 	     after.score_raw > before.score_raw))
 		before = after;
-	return sw_save_snapshot(b, o, env, &before, blob, e);
+	return sw_save_snapshot(b, o, env, &before, blob, NULL, e);
 }
 
 /*

@@ -57,10 +57,11 @@ int sw_cmd_accel_cal(struct sw_backend *b, const struct sw_opts *o,
 
 /*
  * Apply the save policy to a snapshot (calibration state + blob taken
- * together) and write it. Shared by save and calibrate.
+ * together) and write it. Shared by save and calibrate. The policy saying
+ * no returns SW_EXIT_OK with *saved false (saved may be NULL).
  */
 int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, const struct sw_cal_state *cs,
-		     const uint8_t *blob, struct sw_err *e);
+		     const uint8_t *blob, bool *saved, struct sw_err *e);
 
 #endif
