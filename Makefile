@@ -8,7 +8,11 @@
 #   make bench        measure bus use, timing and streaming on the simulated chip
 #   make fuzz         fuzz the tool's file parser and command line (long run)
 #   make uml          build the User-Mode Linux test kernels
-#   make install      install the modules, the tool, its udev rule and unit
+#   make cross        build the driver for arm64, armhf, i386 and with clang
+#   make upstream     write the mainline patch series into build/upstream/
+#   make overlay      build the Raspberry Pi devicetree overlay
+#   make install      install the modules, the tool, its udev rule and unit,
+#                     and the overlay
 
 KDIR     ?= /lib/modules/$(shell uname -r)/build
 # Test kernels: each version, and 6.12 with the sanitisers (tests/uml/config-san)
@@ -58,14 +62,34 @@ bench: uml tool
 fuzz:
 	$(MAKE) -C $(TOOL) fuzz
 
+# W=1 builds of the driver and the simulator for each architecture a user
+# may have, on both kernels (tests/kernel/cross).  The .deb cross-builds
+# join them once debian/ exists.
+cross:
+	@status=0; for v in 6.12 6.1; do \
+		tests/kernel/cross $$v arm64 armhf i386 clang || status=1; \
+	done; \
+	if [ -d debian ]; then tests/kernel/cross-deb arm64 armhf || status=1; \
+	else echo "make cross: no debian/ in this tree, no .deb cross-builds"; fi; \
+	exit $$status
+
+upstream:
+	scripts/upstream-series
+
+overlay:
+	$(MAKE) -C boards/raspberrypi
+
 install: modules_install
 	$(MAKE) -C $(TOOL) install
+	$(MAKE) -C boards/raspberrypi install
 
 clean:
 	-test -d "$(KDIR)" && $(MAKE) -C $(KDIR) M=$(CURDIR) clean
 	-$(MAKE) -C $(TOOL) clean
+	-$(MAKE) -C boards/raspberrypi clean
 
 distclean: clean
 	rm -rf build
 
-.PHONY: all modules modules_install tool prepare uml kunit check demo bench fuzz install clean distclean
+.PHONY: all modules modules_install tool prepare uml kunit check demo bench fuzz cross upstream \
+	overlay install clean distclean
