@@ -34,20 +34,27 @@ def targets(fdt, name):
 
 
 def rename(fdt, node, addr):
-    """Give NODE the unit address ADDR, and its label the new path."""
+    """Give NODE the unit address ADDR, and update the overlay's own records
+    of its path: its label in __symbols__, its references in __fixups__."""
     old = fdt.get_path(node)
     base = fdt.get_name(node).split('@')[0]
     fdt.set_name(node, f'{base}@{addr:x}')
     new = fdt.get_path(node)
-    symbols = fdt.path_offset('/__symbols__')
-    offset = fdt.first_property_offset(symbols, libfdt.QUIET_NOTFOUND)
-    while offset >= 0:
-        prop = fdt.get_property_by_offset(offset)
-        if prop.as_str() == old:
-            fdt.setprop_str(symbols, prop.name, new)
-            offset = fdt.first_property_offset(symbols, libfdt.QUIET_NOTFOUND)
+    for table in ('/__symbols__', '/__fixups__'):
+        parent = fdt.path_offset(table, libfdt.QUIET_NOTFOUND)
+        if parent < 0:
             continue
-        offset = fdt.next_property_offset(offset, libfdt.QUIET_NOTFOUND)
+        names = []
+        offset = fdt.first_property_offset(parent, libfdt.QUIET_NOTFOUND)
+        while offset >= 0:
+            names.append(fdt.get_property_by_offset(offset).name)
+            offset = fdt.next_property_offset(offset, libfdt.QUIET_NOTFOUND)
+        for name in names:
+            entries = bytes(fdt.getprop(parent, name)).split(b'\0')[:-1]
+            fixed = [new.encode() + e[len(old):]
+                     if e == old.encode() or e.startswith(old.encode() + b':') else e
+                     for e in entries]
+            fdt.setprop(parent, name, b'\0'.join(fixed) + b'\0')
 
 
 def main():
