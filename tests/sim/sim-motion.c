@@ -419,7 +419,9 @@ static void sim_motion_sample(struct sim_motion *m, u64 t, unsigned long *seen)
 	s32 q[4];
 
 	if (t > SIM_SAMPLE_SPAN_NS && g < t - SIM_SAMPLE_SPAN_NS)
-		g = roundup(t - SIM_SAMPLE_SPAN_NS, SIM_SAMPLE_NS);
+		/* roundup() of a u64 would need libgcc on 32-bit machines */
+		g = div64_u64(t - SIM_SAMPLE_SPAN_NS + SIM_SAMPLE_NS - 1,
+			      SIM_SAMPLE_NS) * SIM_SAMPLE_NS;
 	for (; g <= t; g += SIM_SAMPLE_NS) {
 		sim_orientation_at(m, g, q);
 		sim_rotate_to_body(q, sim_earth_field, body);
