@@ -74,6 +74,12 @@
 #define SIM_CAL_MAG_UPDATE	BIT(0)
 #define SIM_CAL_GBIAS_UPDATE	BIT(1)
 
+/* What ParamAcknowledge does when a host ends a parameter transfer */
+#define SIM_ACK_END_CLEAR	0	/* 0 at once on a stop or bit 7 clear */
+#define SIM_ACK_END_SERVED	1	/* a stop is served like a request */
+#define SIM_ACK_END_KEPT	2	/* keeps its last echo */
+#define SIM_ACK_END_MAX		SIM_ACK_END_KEPT
+
 #define SIM_NPARAMS		128	/* parameters 1..127; 0 means STOP */
 #define SIM_NCOEFFS		6	/* mcoeffs, warm-start parameters 18..23 */
 
@@ -162,8 +168,9 @@ struct sentral_sim {
 	struct sim_stream stream[SIM_NSTREAMS];
 	u64 timer_late;
 
-	/* INT pin: high while (EventStatus & EnableEvents) != 0 */
+	/* INT pin: high while (EventStatus & EnableEvents) != 0 or latched */
 	bool int_high;
+	bool int_latched;	/* high until EventStatus is read */
 	u64 irqs;
 	unsigned int virq;
 
@@ -183,8 +190,14 @@ struct sentral_sim {
 	s16 accel_bias[3];
 	u32 ack_latency_us;
 	bool ack_never;
+	u8 ack_end;		/* SIM_ACK_END_*: the acknowledge after a stop */
 	u32 upload_ms;
 	u16 ram_version;
+	bool standby_never;
+	bool standby_power_loss;
+	bool standby_blocks_params;
+	u32 nack_after_reset_ms;
+	ktime_t nack_until;	/* NACK everything before this time */
 
 	struct fwnode_handle *fwnode;
 	struct irq_domain *domain;
@@ -229,6 +242,8 @@ u8 sim_cal_status(struct sentral_sim *sim);
 u16 sim_cal_score_raw(struct sentral_sim *sim);
 bool sim_in_upload(struct sentral_sim *sim, ktime_t now);
 bool sim_algo_running(struct sentral_sim *sim, ktime_t now);
+bool sim_nacks(struct sentral_sim *sim, ktime_t now);
+void sim_int_stuck(struct sentral_sim *sim);
 
 /* sim-main.c */
 void sim_fire_irq(struct sentral_sim *sim);

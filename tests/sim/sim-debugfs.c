@@ -280,6 +280,22 @@ static int ack_never_store(struct sentral_sim *sim, char *buf, ktime_t now)
 	return kstrtobool(buf, &sim->ack_never);
 }
 
+static void ack_end_show(struct seq_file *m, struct sentral_sim *sim,
+			 ktime_t now)
+{
+	seq_printf(m, "%u\n", sim->ack_end);
+}
+
+static int ack_end_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	u32 v;
+	int ret = sim_parse_u32(buf, SIM_ACK_END_MAX, &v);
+
+	if (!ret)
+		sim->ack_end = v;
+	return ret;
+}
+
 static void nack_at_show(struct seq_file *m, struct sentral_sim *sim,
 			 ktime_t now)
 {
@@ -315,6 +331,72 @@ static void ram_version_show(struct seq_file *m, struct sentral_sim *sim,
 static int ram_version_store(struct sentral_sim *sim, char *buf, ktime_t now)
 {
 	return kstrtou16(buf, 0, &sim->ram_version);
+}
+
+static void standby_never_show(struct seq_file *m, struct sentral_sim *sim,
+			       ktime_t now)
+{
+	seq_printf(m, "%d\n", sim->standby_never);
+}
+
+static int standby_never_store(struct sentral_sim *sim, char *buf,
+			       ktime_t now)
+{
+	return kstrtobool(buf, &sim->standby_never);
+}
+
+static void standby_power_loss_show(struct seq_file *m,
+				    struct sentral_sim *sim, ktime_t now)
+{
+	seq_printf(m, "%d\n", sim->standby_power_loss);
+}
+
+static int standby_power_loss_store(struct sentral_sim *sim, char *buf,
+				    ktime_t now)
+{
+	return kstrtobool(buf, &sim->standby_power_loss);
+}
+
+static void standby_blocks_params_show(struct seq_file *m,
+				       struct sentral_sim *sim, ktime_t now)
+{
+	seq_printf(m, "%d\n", sim->standby_blocks_params);
+}
+
+static int standby_blocks_params_store(struct sentral_sim *sim, char *buf,
+				       ktime_t now)
+{
+	return kstrtobool(buf, &sim->standby_blocks_params);
+}
+
+static void nack_after_reset_show(struct seq_file *m, struct sentral_sim *sim,
+				  ktime_t now)
+{
+	seq_printf(m, "%u\n", sim->nack_after_reset_ms);
+}
+
+static int nack_after_reset_store(struct sentral_sim *sim, char *buf,
+				  ktime_t now)
+{
+	return sim_parse_u32(buf, SIM_MAX_UPLOAD_MS, &sim->nack_after_reset_ms);
+}
+
+static int int_stuck_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	if (strcmp(buf, "1"))
+		return -EINVAL;
+	sim_int_stuck(sim);
+	return 0;
+}
+
+/* A reset of the chip's own: the firmware raises INT for CPUReset */
+static int chip_reset_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	if (strcmp(buf, "1"))
+		return -EINVAL;
+	sim_power_on(sim, now);
+	sim->int_latched = true;
+	return 0;
 }
 
 static int power_cycle_store(struct sentral_sim *sim, char *buf, ktime_t now)
@@ -443,9 +525,19 @@ static const struct sim_knob sim_knobs[] = {
 	{ "accel_bias", 0600, accel_bias_show, accel_bias_store },
 	{ "ack_latency_us", 0600, ack_latency_show, ack_latency_store },
 	{ "ack_never", 0600, ack_never_show, ack_never_store },
+	{ "ack_end", 0600, ack_end_show, ack_end_store },
 	{ "nack_at", 0600, nack_at_show, nack_at_store },
 	{ "upload_ms", 0600, upload_ms_show, upload_ms_store },
 	{ "ram_version", 0600, ram_version_show, ram_version_store },
+	{ "standby_never", 0600, standby_never_show, standby_never_store },
+	{ "standby_power_loss", 0600, standby_power_loss_show,
+	  standby_power_loss_store },
+	{ "standby_blocks_params", 0600, standby_blocks_params_show,
+	  standby_blocks_params_store },
+	{ "nack_after_reset_ms", 0600, nack_after_reset_show,
+	  nack_after_reset_store },
+	{ "int_stuck", 0200, NULL, int_stuck_store },
+	{ "chip_reset", 0200, NULL, chip_reset_store },
 	{ "power_cycle", 0200, NULL, power_cycle_store },
 	{ "stats", 0600, stats_show, stats_store },
 	{ "samples", 0600, samples_show, samples_store },

@@ -141,9 +141,11 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 		sim->stats.first = now;
 	sim->stats.transactions++;
 
-	if (sim->nack_at && ++sim->nack_count == sim->nack_at) {
+	if (sim_nacks(sim, now) ||
+	    (sim->nack_at && ++sim->nack_count == sim->nack_at)) {
 		/* the address byte is not acknowledged: nothing happens */
-		sim->nack_at = 0;
+		if (!sim_nacks(sim, now))
+			sim->nack_at = 0;
 		sim->stats.nacks++;
 		sim->stats.bus_ns += (sim_msg_bits(0) + bits) * SIM_BIT_NS;
 		sim->stats.last = ktime_get();

@@ -239,9 +239,19 @@ static void sim_param_poll(struct sentral_sim *sim, ktime_t now)
 	if (!sim->req_pending || sim->ack_never || sim_in_upload(sim, now) ||
 	    !(sim->regs[SIM_REG_ALGO_CONTROL] & SIM_ALGO_PARAM_PROC))
 		return;
+	if (sim->standby_blocks_params &&
+	    (sim->regs[SIM_REG_ALGO_CONTROL] & SIM_ALGO_STANDBY))
+		return;
 	if (ktime_us_delta(now, sim->req_servable_at) < sim->ack_latency_us)
 		return;
 
+	sim->req_pending = false;
+	sim->stats.bus_ns += (u64)sim->ack_latency_us * NSEC_PER_USEC;
+	if (!req) {
+		/* a stop, served as a request with ack_end "served" */
+		sim->param_ack = 0;
+		return;
+	}
 	if (req & SIM_PARAM_WRITE) {
 		/* The firmware picks the value up when it serves the request */
 		val = sim_get_le32(&sim->regs[SIM_REG_LOAD_PARAM0]);
@@ -256,9 +266,7 @@ static void sim_param_poll(struct sentral_sim *sim, ktime_t now)
 	}
 	sim_put_le32(val, sim->saved_param);
 	sim->param_ack = req;
-	sim->req_pending = false;
 	sim->stats.params_served++;
-	sim->stats.bus_ns += (u64)sim->ack_latency_us * NSEC_PER_USEC;
 }
 
 void sim_advance(struct sentral_sim *sim, ktime_t now)
@@ -601,7 +609,8 @@ static enum hrtimer_restart sim_timer_fn(struct hrtimer *timer)
  */
 bool sim_int_update(struct sentral_sim *sim)
 {
-	bool high = sim->event_status & sim->regs[SIM_REG_ENABLE_EVENTS];
+	bool high = (sim->event_status & sim->regs[SIM_REG_ENABLE_EVENTS]) ||
+		    sim->int_latched;
 	bool rising = high && !sim->int_high;
 
 	sim->int_high = high;
@@ -634,6 +643,8 @@ void sim_power_on(struct sentral_sim *sim, ktime_t now)
 	sim->event_status = SIM_EV_CPU_RESET;
 	sim->noise_state = 1;
 	sim->int_high = false;
+	sim->int_latched = false;
+	sim->nack_until = ktime_add_ms(now, sim->nack_after_reset_ms);
 
 	sim->producing = false;
 	sim->quat_phase = 0;
@@ -715,8 +726,10 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 		return sim->regs[reg];
 	case SIM_REG_EVENT_STATUS:
 		v = sim->event_status;
-		if (!peek)
+		if (!peek) {
 			sim->event_status = 0;	/* clear-on-read, §1 */
+			sim->int_latched = false;
+		}
 		return v;
 	case SIM_REG_SENTRAL_STATUS:
 		if (up)
@@ -725,13 +738,19 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 		return SIM_ST_EEPROM | SIM_ST_UPLOAD_DONE |
 		       (host & SIM_HOST_RUN ? 0 : SIM_ST_STANDBY);
 	case SIM_REG_ALGO_STATUS:
-		v = algo & SIM_ALGO_STANDBY ? SIM_AS_STANDBY : 0;
+		v = algo & SIM_ALGO_STANDBY && !sim->standby_never ?
+			SIM_AS_STANDBY : 0;
 		if (!sim_motion_moving(&sim->world))
 			v |= SIM_AS_STILL;
 		if (sim_cal_status(sim) == 3)
 			v |= SIM_AS_CAL_STABLE;
 		if (sim->mag_transient)
 			v |= SIM_AS_MAG_TRANSIENT;
+		if ((v & SIM_AS_STANDBY) && !peek && sim->standby_power_loss) {
+			/* the supply goes once the host saw the standby */
+			sim->standby_power_loss = false;
+			sim_power_on(sim, now);
+		}
 		return v;
 	case SIM_REG_PARAM_ACK:
 		return sim->param_ack;
@@ -790,7 +809,8 @@ static void sim_write_algo_control(struct sentral_sim *sim, u8 val,
 	} else if ((old & SIM_ALGO_PARAM_PROC) && !(val & SIM_ALGO_PARAM_PROC)) {
 		/* end of the procedure (§2 "End") */
 		sim->req_pending = false;
-		sim->param_ack = 0;
+		if (sim->ack_end == SIM_ACK_END_CLEAR)
+			sim->param_ack = 0;
 		sim->transfer_ended = now;
 	}
 }
@@ -799,10 +819,11 @@ static void sim_write_param_request(struct sentral_sim *sim, u8 val,
 				    ktime_t now)
 {
 	sim->regs[SIM_REG_PARAM_REQUEST] = val;
-	if (!val) {
+	if (!val && sim->ack_end != SIM_ACK_END_SERVED) {
 		/* 0 = STOP (§2): nothing to serve */
 		sim->req_pending = false;
-		sim->param_ack = 0;
+		if (sim->ack_end == SIM_ACK_END_CLEAR)
+			sim->param_ack = 0;
 		return;
 	}
 	sim->req_pending = true;
@@ -841,4 +862,23 @@ void sim_reg_write(struct sentral_sim *sim, u8 reg, u8 val, ktime_t now)
 		/* read-only registers ignore writes */
 		break;
 	}
+}
+
+/* The chip does not acknowledge its address for a while after a reset */
+bool sim_nacks(struct sentral_sim *sim, ktime_t now)
+{
+	return ktime_before(now, sim->nack_until);
+}
+
+/*
+ * Data events pending and the INT line high, without an edge anyone saw:
+ * as when the line rose before the host listened and nobody read
+ * EventStatus since. It stays high until EventStatus is read.
+ */
+void sim_int_stuck(struct sentral_sim *sim)
+{
+	sim->event_status |= SIM_EV_QUATERNION | SIM_EV_MAG | SIM_EV_ACCEL |
+			     SIM_EV_GYRO;
+	sim->int_latched = true;
+	sim->int_high = true;
 }
