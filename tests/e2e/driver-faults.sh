@@ -204,7 +204,9 @@ sweep_xfer() {
 	echo "# $what: $faults NACKs injected, $succeeded recovered, clean at transaction $n (${SECONDS} s)"
 	ok "$what: the sweep ended with a clean run" [ $n -le $MAX_INDEX ]
 	ok "$what: a NACK at each of at least 73 transactions ($faults)" [ $faults -ge 73 ]
-	ok "$what: at most the 2 end transactions recovered ($succeeded)" [ $succeeded -le 2 ]
+	# ParamRequest = 0 and bit 7 clear are retried; the stop's
+	# acknowledge poll only makes the next transfer read 0x3A first.
+	ok "$what: at most the 3 end transactions recovered ($succeeded)" [ $succeeded -le 3 ]
 	is "$what: every faulted run failed or succeeded whole, chip idle, next run good" \
 		"$fail" ""
 	ok "$what: chip running, not in transfer mode" chip_idle
@@ -244,7 +246,9 @@ while [ $n -le $MAX_INDEX ]; do
 	fi
 	faults=$((faults + 1))
 	if [ $rc = 0 ]; then
-		# Only the retried end of the offsets' transfer recovers
+		# The first accesses are repeated while the chip may still
+		# reset, the firmware wait polls on, the end of a transfer is
+		# retried, and the offsets are not needed to bind.
 		succeeded=$((succeeded + 1))
 		{ bound && chip_idle; } || fail+=" $n:bound-but-not-running"
 		unbind
@@ -268,7 +272,8 @@ ok "probe: the sweep ended with a clean bind" [ $n -le $MAX_INDEX ]
 is "probe: and that bind succeeded" "$rc" 0
 # ID, status, versions, 8 configuration writes, the offsets' transfer
 ok "probe: a NACK at each of at least 20 transactions ($faults)" [ $faults -ge 20 ]
-ok "probe: at most the 2 end transactions recovered ($succeeded)" [ $succeeded -le 2 ]
+ok "probe: the configuration writes are not recovered ($succeeded of $faults)" \
+	[ $succeeded -lt $faults ]
 is "probe: every faulted probe failed (or bound whole), chip not in transfer mode, next probe good" \
 	"$fail" ""
 ok "bound after the sweep" bound
@@ -282,7 +287,8 @@ ok "load em7180_i2c with the first transaction NACKed" \
 	modprobe -d "$SENTRAL_MODROOT" em7180_i2c
 ok "the NACK fired" nack_fired
 nacks=$((nacks + 1))
-nok "probe failed: not bound" bound
+# The first access may meet a chip still in its reset: it is repeated
+ok "probe repeated the ID read: bound" wait_for 5 bound
 ok "unload again" modprobe -d "$SENTRAL_MODROOT" -r em7180_i2c
 ok "load em7180_i2c" modprobe -d "$SENTRAL_MODROOT" em7180_i2c
 ok "bound after the reload" wait_for 5 bound
@@ -309,16 +315,32 @@ for what in save restore; do
 	ok "ack_never: chip left running, not in transfer mode" chip_idle
 done
 ok "unbind" unbind
-nok "ack_never: probe fails" bind
+ok "ack_never: probe binds without the offsets" bind
 timeouts=$((timeouts + 1))
-like "ack_never: probe timed out reading the offsets" "$(cat "$TMP/err")" "timed out"
-nok "not bound" bound
-ok "chip not in transfer mode" not_transfer
+ok "bound" bound
+find_dev
+ok "chip running, not in transfer mode" chip_idle
+nok "calibbias unknown: its read fails" cat "$DEV/in_accel_x_calibbias"
 knob ack_never 0
+ok "a calibration_data read refreshes the copy" save
+is "calibbias known again" "$(cat "$DEV/in_accel_x_calibbias")" 0
+ok "unbind" unbind
 ok "bind again" bind
 ok "bound again" bound
 find_dev
 ok "chip running" chip_idle
+
+# A chip that does not acknowledge its address for a while after a reset
+# (the reference drivers wait about 50 ms): probe waits for it.
+ok "unbind" unbind
+knob nack_after_reset_ms 100
+knob power_cycle 1
+ok "probe during 100 ms of NACKs after a reset" bind
+knob nack_after_reset_ms 0
+ok "bound" bound
+find_dev
+ok "chip running" chip_idle
+nacks=$(dbg_get stats nacks)
 
 # A write whose acknowledge poll fails: the chip may or may not have taken
 # the value, and calibbias must then read what the chip has.
@@ -327,6 +349,7 @@ knob nack_at 3
 nok "calibbias x -47, the acknowledge poll NACKed" sh -c "echo -47 >$DEV/in_accel_x_calibbias"
 ok "the NACK fired" nack_fired
 nacks=$((nacks + 1))
+# The driver read the offsets back after the failed write
 case $(dbg_get params 27) in
 0xbcbbe447) want=-47 ;;
 0x00000000) want=0 ;;
@@ -395,7 +418,7 @@ while [ $n -le $MAX_INDEX ]; do
 		fail+=" $n:capture-failed($(<"$TMP/err"))"
 	fi
 	reg_get 0x33
-	[ "$REG" = 02 ] || fail+=" $n:events-left-on($REG)"
+	[ "$REG" = 03 ] || fail+=" $n:events-left-on($REG)"
 	chip_idle || fail+=" $n:chip-not-idle"
 	n=$((n + 1))
 done
@@ -419,14 +442,14 @@ echo 1 >"$DEV/scan_elements/in_accel_x_en"
 ok "buffer enabled" sh -c "echo 1 >$DEV/buffer/enable"
 sleep 0.35
 reg_get 0x33
-is "data interrupts on" "$REG" 12
+is "data interrupts on" "$REG" 13
 knob nack_at 1
 echo 0 >"$DEV/buffer/enable"
 ok "the NACK fired" nack_fired
 nacks=$((nacks + 1))
 is "buffer disabled" "$(cat "$DEV/buffer/enable")" 0
 reg_get 0x33
-is "data interrupts off despite the NACK" "$REG" 02
+is "data interrupts off despite the NACK" "$REG" 03
 irqs=$(dbg_get state irqs)
 sleep 0.3
 is "no interrupt after the capture" "$(dbg_get state irqs)" "$irqs"

@@ -110,6 +110,30 @@ is "calibbias reads back" "$(cat "$DEV"/in_accel_{x,y,z}_calibbias | tr '\n' ' '
 is "parameters 27..29 are Table 1" \
 	"$(dbg_get params 27) $(dbg_get params 28) $(dbg_get params 29)" "$TABLE1"
 is "accel output now 0 0 2048" "$(cat "$DEV"/in_accel_{x,y,z}_raw | tr '\n' ' ')" "0 0 2048 "
+# One verified parameter write, measured: burst, bit 7, acknowledge, then
+# the stop, its acknowledge and bit 7 clear.
+knob stats 0
+ok "echo 46 > in_accel_z_calibbias again" sh -c "echo 46 > $DEV/in_accel_z_calibbias"
+t=$(dbg_get stats transactions)
+echo "# one calibbias write: $t transactions, bus_time_us $(dbg_get stats bus_time_us)"
+is "one parameter write: 6 transactions" "$t" 6
+
+# Firmware that keeps its last acknowledge when a transfer ends (ack_end 2)
+# or serves the stop only after its latency (1): the acknowledge of the
+# first request of the next transfer must not be taken from the last one.
+for mode in 1 2; do
+	knob ack_end $mode
+	knob ack_latency_us 20000
+	echo -47 >"$DEV/in_accel_x_calibbias"
+	echo 46 >"$DEV/in_accel_x_calibbias"
+	is "ack_end $mode: the same parameter written twice holds the second value" \
+		"$(dbg_get params 27)" 0x3cb7e4de
+	echo -47 >"$DEV/in_accel_x_calibbias"
+	is "ack_end $mode: and again the first" "$(dbg_get params 27)" 0xbcbbe447
+	ok "ack_end $mode: chip left running" chip_idle
+done
+knob ack_end 0
+knob ack_latency_us 500
 nok "calibbias 40000 refused" sh -c "echo 40000 > $DEV/in_accel_x_calibbias"
 nok "calibbias 1.5 refused" sh -c "echo 1.5 > $DEV/in_accel_x_calibbias"
 nok "calibbias garbage refused" sh -c "echo abc > $DEV/in_accel_x_calibbias"
@@ -184,6 +208,23 @@ out=$(dd if="$DEV/calibration_data" of=/dev/null bs=4096 2>&1)
 like "NACK during save: I/O error" "$out" "(Input/output error|No such device)"
 ok "chip left running after the NACK" chip_idle
 ok "next save works" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
+
+# Unbinding leaves the chip running, out of transfer mode, data interrupts
+# off: sentral-warmstart --i2c can then save, also on firmware that serves
+# no parameter request while the algorithm is in standby.
+DRV=/sys/bus/i2c/drivers/em7180
+CLIENT=$(basename "$(readlink -f "$DEV/..")")
+knob standby_blocks_params 1
+ok "unbind" sh -c "echo $CLIENT > $DRV/unbind"
+ok "unbound: algorithm running, not in transfer mode" chip_idle
+is "unbound: not in standby" "$(dbg_get state standby)" 0
+reg=$(awk '$1 == "30:" { print $5 }' "$SIM_DBG/regs")
+is "unbound: data interrupts off (EnableEvents)" "$reg" 00
+ok "unbound: sentral-warmstart --i2c save" \
+	sentral-warmstart --i2c "/dev/i2c-$(sim_bus)" save --force --file "$TMP/i2c.ws"
+knob standby_blocks_params 0
+ok "bind again" sh -c "echo $CLIENT > $DRV/bind"
+ok "bound again" wait_for 5 em7180_dir
 
 rm -rf "$TMP"
 done_testing

@@ -72,6 +72,8 @@
 #define EM7180_EVENT_ACCEL		BIT(4)
 #define EM7180_EVENT_GYRO		BIT(5)
 #define EM7180_EVENT_DATA		GENMASK(5, 2)
+/* Always enabled: a reset of the chip's own, and firmware errors */
+#define EM7180_EVENT_ALWAYS		(EM7180_EVENT_CPU_RESET | EM7180_EVENT_ERROR)
 
 #define EM7180_SENTRAL_EEPROM		BIT(0)
 #define EM7180_SENTRAL_UPLOAD_DONE	BIT(1)
@@ -137,17 +139,22 @@ struct iio_trigger;
  * @regmap: register map of the chip
  * @trig: data-ready trigger, NULL without an interrupt line
  * @lock: serialises every chip access and the fields below
+ * @irq: interrupt of the INT pin, 0 when not wired
  * @ack_wait_us: wait before the first ParamAcknowledge poll, learned
  * @ack_good_us: longest wait known to have been enough recently
+ * @ack_known: @ack_stale holds what ParamAcknowledge reads between transfers
+ * @ack_stale: that value: 0, or the echo of the last request served
+ * @stop_unacked: the firmware does not echo ParamRequest = 0
  * @cal_flags: calibration update flags read but not yet reported
  * @product_id: ProductID read at probe
  * @revision_id: RevisionID read at probe
  * @rom_version: ROM version, read at probe
  * @ram_version: RAM (firmware) version, read at probe and after a power loss
- * @ws_valid: @ws holds the last warm start written or read
+ * @ws_valid: @ws holds the last warm start written, read or saved at suspend
  * @ws: warm start to re-apply when the chip lost power during suspend
  * @accel_offset_valid: @accel_offset holds what the chip has
  * @accel_offset: parameters 27..29, the accelerometer offsets in float g
+ * @pace_event: the EventStatus bit whose interrupt paces scans, 0 when off
  * @orientation: mount matrix from firmware
  * @timestamp: time of the last data-ready interrupt, written by the hard handler
  * @scan_ts: time of the interrupt of the scan being captured
@@ -162,8 +169,12 @@ struct em7180_data {
 	struct regmap *regmap;
 	struct iio_trigger *trig;
 	struct mutex lock;	/* chip access, ack estimate, warm start, versions */
+	int irq;
 	unsigned int ack_wait_us;
 	unsigned int ack_good_us;
+	bool ack_known;
+	u8 ack_stale;
+	bool stop_unacked;
 	u8 cal_flags;
 	u8 product_id;
 	u8 revision_id;
@@ -173,6 +184,7 @@ struct em7180_data {
 	u8 ws[EM7180_WS_SIZE];
 	bool accel_offset_valid;
 	u32 accel_offset[3];
+	unsigned int pace_event;
 	struct iio_mount_matrix orientation;
 	s64 timestamp;
 	s64 scan_ts;
@@ -201,6 +213,10 @@ s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits);
 
 int em7180_chip_suspend(struct em7180_data *data);
 int em7180_chip_resume(struct em7180_data *data);
+int em7180_read_calibbias(struct em7180_data *data, unsigned int axis,
+			  int *val);
+int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
+			   int val);
 
 int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 			   bool write);

@@ -29,4 +29,25 @@
 #define EM7180_I2C_PROBE_MEMBER		probe_new
 #endif
 
+/*
+ * iio_device_suspend_triggering() came in 6.12; before it, a trigger of
+ * another driver feeding the device during system sleep is not stopped.
+ */
+#if KERNEL_VERSION(6, 12, 0) <= LINUX_VERSION_CODE
+#define em7180_suspend_triggering(indio_dev)	iio_device_suspend_triggering(indio_dev)
+#define em7180_resume_triggering(indio_dev)	iio_device_resume_triggering(indio_dev)
+#else
+struct iio_dev;
+
+static inline int em7180_suspend_triggering(struct iio_dev *indio_dev)
+{
+	return 0;
+}
+
+static inline int em7180_resume_triggering(struct iio_dev *indio_dev)
+{
+	return 0;
+}
+#endif
+
 #endif /* _EM7180_COMPAT_H_ */

@@ -30,6 +30,13 @@ struct emu_xfer {
 	u8 data[8];
 };
 
+/* What ParamAcknowledge does when a transfer ends, as tests/sim knob ack_end */
+enum emu_ack_end {
+	EMU_ACK_END_CLEAR,	/* 0 at once on a stop or bit 7 clear */
+	EMU_ACK_END_SERVED,	/* a stop is served like a request */
+	EMU_ACK_END_KEPT,	/* keeps its last echo */
+};
+
 /* Just enough of the chip for the parameter procedure (reference §2) */
 struct em7180_emu {
 	u8 regs[256];
@@ -39,6 +46,8 @@ struct em7180_emu {
 	unsigned int transactions;
 	unsigned int nack_at;		/* fail this transaction (1-based) */
 	bool ack_never;
+	enum emu_ack_end ack_end;
+	bool standby_stuck;		/* AlgorithmStatus never shows standby */
 	unsigned int ack_latency_us;
 	bool pending;
 	ktime_t req_time;
@@ -66,15 +75,32 @@ static void emu_log(struct em7180_emu *emu, bool write, u8 reg,
 }
 
 /* A request is served while AlgorithmControl bit 7 is set */
-static void emu_request(struct em7180_emu *emu)
+static void emu_request_written(struct em7180_emu *emu)
 {
-	if ((emu->regs[EM7180_REG_ALGO_CTRL] & EM7180_ALGO_CTRL_PARAM_XFER) &&
-	    emu->regs[EM7180_REG_PARAM_REQ]) {
-		emu->pending = true;
-		emu->req_time = ktime_get();
-	} else if (!emu->regs[EM7180_REG_PARAM_REQ]) {
+	if (!emu->regs[EM7180_REG_PARAM_REQ] &&
+	    emu->ack_end != EMU_ACK_END_SERVED) {
 		emu->pending = false;
-		emu->regs[EM7180_REG_PARAM_ACK] = 0;
+		if (emu->ack_end == EMU_ACK_END_CLEAR)
+			emu->regs[EM7180_REG_PARAM_ACK] = 0;
+		return;
+	}
+	emu->pending = true;
+	emu->req_time = ktime_get();
+}
+
+static void emu_algo_written(struct em7180_emu *emu, u8 old)
+{
+	u8 new = emu->regs[EM7180_REG_ALGO_CTRL];
+
+	if (!(old & EM7180_ALGO_CTRL_PARAM_XFER) &&
+	    (new & EM7180_ALGO_CTRL_PARAM_XFER)) {
+		emu->pending = emu->regs[EM7180_REG_PARAM_REQ] != 0;
+		emu->req_time = ktime_get();
+	} else if ((old & EM7180_ALGO_CTRL_PARAM_XFER) &&
+		   !(new & EM7180_ALGO_CTRL_PARAM_XFER)) {
+		emu->pending = false;
+		if (emu->ack_end == EMU_ACK_END_CLEAR)
+			emu->regs[EM7180_REG_PARAM_ACK] = 0;
 	}
 }
 
@@ -84,12 +110,13 @@ static void emu_serve(struct em7180_emu *emu)
 	u8 n = req & ~EM7180_PARAM_WRITE;
 
 	if (!emu->pending || emu->ack_never ||
+	    !(emu->regs[EM7180_REG_ALGO_CTRL] & EM7180_ALGO_CTRL_PARAM_XFER) ||
 	    ktime_us_delta(ktime_get(), emu->req_time) < emu->ack_latency_us)
 		return;
 
 	if (req & EM7180_PARAM_WRITE)
 		emu->params[n] = get_unaligned_le32(&emu->regs[EM7180_REG_LOAD_PARAM]);
-	else
+	else if (req)
 		put_unaligned_le32(emu->params[n],
 				   &emu->regs[EM7180_REG_SAVED_PARAM]);
 	emu->regs[EM7180_REG_PARAM_ACK] = req;
@@ -99,6 +126,7 @@ static void emu_serve(struct em7180_emu *emu)
 static int emu_write(void *context, const void *buf, size_t count)
 {
 	struct em7180_emu *emu = context;
+	u8 old_algo = emu->regs[EM7180_REG_ALGO_CTRL];
 	const u8 *b = buf;
 	unsigned int i;
 
@@ -109,9 +137,9 @@ static int emu_write(void *context, const void *buf, size_t count)
 	for (i = 1; i < count; i++)
 		emu->regs[(u8)(b[0] + i - 1)] = b[i];
 	if (b[0] <= EM7180_REG_PARAM_REQ && b[0] + count - 1 > EM7180_REG_PARAM_REQ)
-		emu_request(emu);
-	else if (b[0] == EM7180_REG_ALGO_CTRL)
-		emu_request(emu);
+		emu_request_written(emu);
+	if (b[0] <= EM7180_REG_ALGO_CTRL && b[0] + count - 1 > EM7180_REG_ALGO_CTRL)
+		emu_algo_written(emu, old_algo);
 
 	return 0;
 }
@@ -127,7 +155,8 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 		return -EIO;
 
 	emu_serve(emu);
-	emu->regs[EM7180_REG_ALGO_STATUS] = emu->regs[EM7180_REG_ALGO_CTRL] &
+	emu->regs[EM7180_REG_ALGO_STATUS] = emu->standby_stuck ? 0 :
+					    emu->regs[EM7180_REG_ALGO_CTRL] &
 					    EM7180_ALGO_CTRL_STANDBY;
 	/* Once uploaded, the CPU is in standby until the host runs it */
 	if (emu->regs[EM7180_REG_SENTRAL_STATUS] & EM7180_SENTRAL_UPLOAD_DONE) {
@@ -170,6 +199,8 @@ static int em7180_test_init(struct kunit *test)
 	t->data.regmap = map;
 	mutex_init(&t->data.lock);
 	em7180_param_init(&t->data);
+	/* As probe leaves it: ParamAcknowledge read, and 0 */
+	t->data.ack_known = true;
 	test->priv = t;
 
 	return 0;
@@ -198,14 +229,22 @@ static void expect_xfer(struct kunit *test, const struct em7180_emu *emu,
 				      "transaction %u: %*ph", i, len, x->data);
 }
 
-/* The two writes every transfer must end with, error or not */
+/*
+ * How every transfer must end, error or not: ParamRequest = 0, after a
+ * clean transfer the stop's acknowledge, and bit 7 clear.
+ */
 static void expect_ended(struct kunit *test, const struct em7180_emu *emu)
 {
 	static const u8 zero;
+	unsigned int stop;
 
-	KUNIT_ASSERT_GE(test, emu->n_log, 2U);
-	expect_xfer(test, emu, emu->n_log - 2, true, EM7180_REG_PARAM_REQ,
-		    &zero, 1);
+	KUNIT_ASSERT_GE(test, emu->n_log, 3U);
+	stop = emu->n_log - 2;
+	if (!emu->log[stop].write) {
+		expect_xfer(test, emu, stop, false, EM7180_REG_PARAM_ACK, NULL, 1);
+		stop--;
+	}
+	expect_xfer(test, emu, stop, true, EM7180_REG_PARAM_REQ, &zero, 1);
 	expect_xfer(test, emu, emu->n_log - 1, true, EM7180_REG_ALGO_CTRL,
 		    &zero, 1);
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_PARAM_REQ], 0);
@@ -248,9 +287,10 @@ static void em7180_test_param_read_sequence(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, test_params_read(t, 5, 1, &val), 0);
 	KUNIT_EXPECT_EQ(test, val, 0x12345678U);
 
-	KUNIT_ASSERT_EQ(test, emu->n_log, 5U);
-	expect_xfer(test, emu, 0, true, EM7180_REG_ALGO_CTRL, &start, 1);
-	expect_xfer(test, emu, 1, true, EM7180_REG_PARAM_REQ, &req, 1);
+	/* The request first, then bit 7, as the reference drivers do */
+	KUNIT_ASSERT_EQ(test, emu->n_log, 6U);
+	expect_xfer(test, emu, 0, true, EM7180_REG_PARAM_REQ, &req, 1);
+	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &start, 1);
 	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL, 5);
 	expect_ended(test, emu);
 }
@@ -267,12 +307,31 @@ static void em7180_test_param_write_sequence(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, test_params_write(t, 27, 1, &val), 0);
 	KUNIT_EXPECT_EQ(test, emu->params[27], 0xBCBBE447U);
 
-	KUNIT_ASSERT_EQ(test, emu->n_log, 5U);
-	expect_xfer(test, emu, 0, true, EM7180_REG_ALGO_CTRL, &start, 1);
-	expect_xfer(test, emu, 1, true, EM7180_REG_LOAD_PARAM, burst, 5);
+	KUNIT_ASSERT_EQ(test, emu->n_log, 6U);
+	expect_xfer(test, emu, 0, true, EM7180_REG_LOAD_PARAM, burst, 5);
+	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &start, 1);
 	/* a write polls the acknowledge byte alone */
 	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL, 1);
 	expect_ended(test, emu);
+}
+
+/* The bursts of a write, in order, wherever the polls fall */
+static void expect_bursts(struct kunit *test, const struct em7180_emu *emu,
+			  const u32 *in, unsigned int count)
+{
+	unsigned int i, n = 0;
+	u8 burst[5];
+
+	for (i = 0; i < emu->n_log; i++) {
+		if (!emu->log[i].write || emu->log[i].reg != EM7180_REG_LOAD_PARAM)
+			continue;
+		KUNIT_ASSERT_LT(test, n, count);
+		put_unaligned_le32(in[n], burst);
+		burst[4] = (n + 1) | EM7180_PARAM_WRITE;
+		expect_xfer(test, emu, i, true, EM7180_REG_LOAD_PARAM, burst, 5);
+		n++;
+	}
+	KUNIT_EXPECT_EQ(test, n, count);
 }
 
 static void em7180_test_param_batch(struct kunit *test)
@@ -280,35 +339,81 @@ static void em7180_test_param_batch(struct kunit *test)
 	struct em7180_test *t = test->priv;
 	struct em7180_emu *emu = &t->emu;
 	u32 in[EM7180_WS_NUM_PARAMS], out[EM7180_WS_NUM_PARAMS];
-	u8 burst[5];
 	unsigned int i;
 
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 		in[i] = 0x3F800000 + i;
 
 	KUNIT_ASSERT_EQ(test, test_params_write(t, 1, EM7180_WS_NUM_PARAMS, in), 0);
-	KUNIT_EXPECT_EQ(test, emu->transactions, 2 * EM7180_WS_NUM_PARAMS + 3);
-	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++) {
-		put_unaligned_le32(in[i], burst);
-		burst[4] = (i + 1) | EM7180_PARAM_WRITE;
-		expect_xfer(test, emu, 1 + 2 * i, true, EM7180_REG_LOAD_PARAM,
-			    burst, 5);
-		expect_xfer(test, emu, 2 + 2 * i, false, EM7180_REG_PARAM_ACK,
-			    NULL, 1);
+	KUNIT_EXPECT_EQ(test, emu->transactions, 2 * EM7180_WS_NUM_PARAMS + 4);
+	expect_bursts(test, emu, in, EM7180_WS_NUM_PARAMS);
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 		KUNIT_EXPECT_EQ(test, emu->params[i + 1], in[i]);
-	}
 	expect_ended(test, emu);
 
 	emu->n_log = 0;
 	emu->transactions = 0;
 	KUNIT_ASSERT_EQ(test, test_params_read(t, 1, EM7180_WS_NUM_PARAMS, out), 0);
-	KUNIT_EXPECT_EQ(test, emu->transactions, 2 * EM7180_WS_NUM_PARAMS + 3);
+	KUNIT_EXPECT_EQ(test, emu->transactions, 2 * EM7180_WS_NUM_PARAMS + 4);
 	KUNIT_EXPECT_TRUE(test, !memcmp(out, in, sizeof(in)));
-	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++) {
-		burst[0] = i + 1;
-		expect_xfer(test, emu, 1 + 2 * i, true, EM7180_REG_PARAM_REQ,
-			    burst, 1);
+	expect_ended(test, emu);
+}
+
+/*
+ * A firmware that keeps its last echo when a transfer ends, or serves the
+ * stop only after its latency: the same parameter written twice in a row
+ * must hold the second value, and read twice, the value it has then.
+ */
+static void em7180_test_param_stale_ack(struct kunit *test)
+{
+	static const enum emu_ack_end modes[] = {
+		EMU_ACK_END_SERVED, EMU_ACK_END_KEPT, EMU_ACK_END_CLEAR,
+	};
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 a = 0xBCBBE447, b = 0x3CB7E4DE, val;
+	unsigned int i, round;
+
+	emu->ack_latency_us = 3000;
+	for (i = 0; i < ARRAY_SIZE(modes); i++) {
+		emu->ack_end = modes[i];
+		for (round = 0; round < 2; round++) {
+			KUNIT_ASSERT_EQ(test, test_params_write(t, 27, 1, &a), 0);
+			KUNIT_ASSERT_EQ(test, test_params_write(t, 27, 1, &b), 0);
+			KUNIT_EXPECT_EQ_MSG(test, emu->params[27], b,
+					    "ack_end %d round %u", modes[i], round);
+			KUNIT_ASSERT_EQ(test, test_params_read(t, 27, 1, &val), 0);
+			emu->params[27] = a;
+			KUNIT_ASSERT_EQ(test, test_params_read(t, 27, 1, &val), 0);
+			KUNIT_EXPECT_EQ_MSG(test, val, a, "ack_end %d round %u",
+					    modes[i], round);
+			expect_ended(test, emu);
+		}
 	}
+}
+
+/*
+ * Nothing known about ParamAcknowledge (another user had the chip): it is
+ * read first, and an echo equal to the first request is changed by a read
+ * of another parameter before the request goes out.
+ */
+static void em7180_test_param_unknown_ack(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 val = 0x3F800000;
+
+	emu->ack_end = EMU_ACK_END_KEPT;
+	emu->ack_latency_us = 3000;
+	emu->regs[EM7180_REG_PARAM_ACK] = 28 | EM7180_PARAM_WRITE;
+	em7180_param_init(&t->data);
+
+	KUNIT_ASSERT_EQ(test, test_params_write(t, 28, 1, &val), 0);
+	KUNIT_EXPECT_EQ(test, emu->params[28], val);
+	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL, 1);
+	/* the read of parameter 29 that changes the echo */
+	expect_xfer(test, emu, 1, true, EM7180_REG_PARAM_REQ, NULL, 1);
+	KUNIT_EXPECT_EQ(test, emu->log[1].data[0], 29);
 	expect_ended(test, emu);
 }
 
@@ -381,15 +486,22 @@ static void em7180_test_param_nack(struct kunit *test)
 
 	KUNIT_ASSERT_EQ(test, test_params_write(t, 27, 3, vals), 0);
 	clean = emu->transactions;
-	KUNIT_ASSERT_EQ(test, clean, 9U);
+	KUNIT_ASSERT_EQ(test, clean, 10U);
 
 	for (n = 1; n <= clean; n++) {
+		/* As after the sweep's last transfer: the echo is known */
+		t->data.ack_known = true;
+		t->data.ack_stale = 0;
+		emu->regs[EM7180_REG_PARAM_ACK] = 0;
 		emu->transactions = 0;
 		emu->n_log = 0;
 		emu->nack_at = n;
 		ret = test_params_write(t, 27, 3, vals);
-		/* A failed end is retried, so a NACK there is recovered */
-		if (n >= clean - 1)
+		/*
+		 * A failed end is retried and a failed poll of the stop only
+		 * makes the echo unknown, so a NACK there is recovered
+		 */
+		if (n >= clean - 2)
 			KUNIT_EXPECT_EQ_MSG(test, ret, 0, "NACK at %u", n);
 		else
 			KUNIT_EXPECT_EQ_MSG(test, ret, -EIO, "NACK at %u", n);
@@ -652,6 +764,7 @@ static void em7180_test_warmstart_fuzz(struct kunit *test)
 	mutex_init(&data->lock);
 	/* No acknowledge latency: the learned wait soon drops to nothing */
 	em7180_param_init(data);
+	data->ack_known = true;
 
 	prandom_seed_state(&rnd, WS_FUZZ_SEED);
 	for (round = 0; round < WS_FUZZ_ROUNDS; round++) {
@@ -751,9 +864,14 @@ static void test_configure(struct kunit *test, struct em7180_test *t)
 
 	KUNIT_ASSERT_EQ(test, regmap_multi_reg_write(t->data.regmap, cfg,
 						     ARRAY_SIZE(cfg)), 0);
-	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+	/* The chip holds, and the driver knows, a restored warm start */
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++) {
 		put_unaligned_le32(0x3F800000 + i, &t->data.ws[4 * i]);
+		t->emu.params[i + 1] = 0x3F800000 + i;
+	}
 	t->data.ws_valid = true;
+	t->data.rom_version = 0x09E6;
+	t->data.ram_version = 0x0D17;
 	/* Running: upload done, CPU executing */
 	t->emu.regs[EM7180_REG_SENTRAL_STATUS] = 0x03;
 }
@@ -840,6 +958,146 @@ static void em7180_test_pm_power_loss_nack(struct kunit *test)
 	KUNIT_EXPECT_GT(test, clean, 2 * EM7180_WS_NUM_PARAMS + 3);
 }
 
+/* What the chip learned since boot is what comes back after a power loss */
+static void em7180_test_pm_live_calibration(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+
+	test_configure(test, t);
+	emu->params[18] = 0x3F666666;	/* a learned soft-iron gain */
+
+	KUNIT_ASSERT_EQ(test, em7180_chip_suspend(&t->data), 0);
+	test_power_loss(emu);
+	KUNIT_ASSERT_EQ(test, em7180_chip_resume(&t->data), 0);
+	KUNIT_EXPECT_EQ(test, emu->params[18], 0x3F666666U);
+	KUNIT_EXPECT_EQ(test, emu->params[19], 0x3F800000U + 18);
+	expect_ended(test, emu);
+}
+
+/*
+ * Offsets written while no warm start is known (its read at suspend
+ * failed) come back too.
+ */
+static void em7180_test_pm_offsets_without_ws(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	int lsb;
+
+	test_configure(test, t);
+	t->data.ws_valid = false;
+	t->data.accel_offset_valid = true;
+	KUNIT_ASSERT_EQ(test, em7180_write_calibbias(&t->data, 0, -47), 0);
+
+	emu->ack_never = true;
+	KUNIT_EXPECT_EQ(test, em7180_chip_suspend(&t->data), 0);
+	emu->ack_never = false;
+	test_power_loss(emu);
+	KUNIT_ASSERT_EQ(test, em7180_chip_resume(&t->data), 0);
+	KUNIT_EXPECT_EQ(test, emu->params[27], 0xBCBBE447U);
+	KUNIT_ASSERT_EQ(test, em7180_read_calibbias(&t->data, 0, &lsb), 0);
+	KUNIT_EXPECT_EQ(test, lsb, -47);
+}
+
+/* Configure while HostControl is 0: the rates before HostControl = RUN */
+static void em7180_test_pm_restore_order(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	unsigned int i, run = 0, last_rate = 0;
+
+	test_configure(test, t);
+	KUNIT_ASSERT_EQ(test, em7180_chip_suspend(&t->data), 0);
+	test_power_loss(emu);
+	emu->n_log = 0;
+	KUNIT_ASSERT_EQ(test, em7180_chip_resume(&t->data), 0);
+
+	for (i = 0; i < emu->n_log; i++) {
+		const struct emu_xfer *x = &emu->log[i];
+
+		if (!x->write)
+			continue;
+		if (x->reg <= EM7180_REG_HOST_CTRL &&
+		    x->reg + x->len > EM7180_REG_HOST_CTRL)
+			run = i;
+		if (x->reg <= EM7180_REG_GYRO_RATE &&
+		    x->reg + x->len > EM7180_REG_MAG_RATE)
+			last_rate = i;
+	}
+	KUNIT_EXPECT_GT(test, run, 0U);
+	KUNIT_EXPECT_GT(test, last_rate, 0U);
+	KUNIT_EXPECT_LT(test, last_rate, run);
+	expect_restored(test, t, 0);
+}
+
+/*
+ * A standby the chip never confirms: suspend does not fail with the
+ * algorithm halted (the PM core would not resume it); resume runs it.
+ */
+static void em7180_test_pm_standby_stuck(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	int ret;
+
+	test_configure(test, t);
+	emu->standby_stuck = true;
+	ret = em7180_chip_suspend(&t->data);
+	if (ret)
+		KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
+	else
+		KUNIT_EXPECT_EQ(test, em7180_chip_resume(&t->data), 0);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
+}
+
+/*
+ * A power loss that brings other firmware: the warm start of the old one
+ * is not written (sentral-warmstart refuses such a file too).
+ */
+static void em7180_test_pm_firmware_changed(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	unsigned int i;
+
+	test_configure(test, t);
+	KUNIT_ASSERT_EQ(test, em7180_chip_suspend(&t->data), 0);
+	test_power_loss(emu);
+	emu->regs[EM7180_REG_RAM_VERSION] = 0x18;
+
+	KUNIT_ASSERT_EQ(test, em7180_chip_resume(&t->data), 0);
+	KUNIT_EXPECT_EQ(test, t->data.ram_version, 0x0D18);
+	for (i = 1; i <= EM7180_WS_NUM_PARAMS; i++)
+		KUNIT_EXPECT_EQ_MSG(test, emu->params[i], 0U, "parameter %u", i);
+	KUNIT_EXPECT_FALSE(test, t->data.ws_valid);
+	/* configured and running all the same */
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_HOST_CTRL], EM7180_HOST_CTRL_RUN);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_MAG_RATE], 30);
+}
+
+/* calibbias reads never reach the bus, and fail while the copy is unknown */
+static void em7180_test_calibbias_copy(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	int lsb;
+
+	t->data.accel_offset_valid = false;
+	KUNIT_EXPECT_EQ(test, em7180_read_calibbias(&t->data, 1, &lsb), -ENODATA);
+	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
+
+	/* A write while the copy is unknown reads the offsets back */
+	emu->params[29] = 0x3CB7E4DE;
+	KUNIT_ASSERT_EQ(test, em7180_write_calibbias(&t->data, 0, -47), 0);
+	emu->transactions = 0;
+	KUNIT_ASSERT_EQ(test, em7180_read_calibbias(&t->data, 0, &lsb), 0);
+	KUNIT_EXPECT_EQ(test, lsb, -47);
+	KUNIT_ASSERT_EQ(test, em7180_read_calibbias(&t->data, 2, &lsb), 0);
+	KUNIT_EXPECT_EQ(test, lsb, 46);
+	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
+}
+
 static void em7180_test_pm_no_power_loss(struct kunit *test)
 {
 	struct em7180_test *t = test->priv;
@@ -857,13 +1115,14 @@ static void em7180_test_pm_no_power_loss(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, emu->transactions, 2U);
 	expect_xfer(test, emu, 0, false, EM7180_REG_SENTRAL_STATUS, NULL, 1);
 	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &run, 1);
-	KUNIT_EXPECT_EQ(test, emu->params[1], 0U);
 }
 
 static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_read_sequence),
 	KUNIT_CASE(em7180_test_param_write_sequence),
 	KUNIT_CASE(em7180_test_param_batch),
+	KUNIT_CASE(em7180_test_param_stale_ack),
+	KUNIT_CASE(em7180_test_param_unknown_ack),
 	KUNIT_CASE(em7180_test_param_latency),
 	KUNIT_CASE(em7180_test_param_slow_ack),
 	KUNIT_CASE(em7180_test_param_timeout),
@@ -872,6 +1131,12 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_pm_power_loss),
 	KUNIT_CASE(em7180_test_pm_power_loss_nack),
 	KUNIT_CASE(em7180_test_pm_no_power_loss),
+	KUNIT_CASE(em7180_test_pm_live_calibration),
+	KUNIT_CASE(em7180_test_pm_offsets_without_ws),
+	KUNIT_CASE(em7180_test_pm_restore_order),
+	KUNIT_CASE(em7180_test_pm_standby_stuck),
+	KUNIT_CASE(em7180_test_pm_firmware_changed),
+	KUNIT_CASE(em7180_test_calibbias_copy),
 	KUNIT_CASE(em7180_test_warmstart_fuzz),
 	{ }
 };

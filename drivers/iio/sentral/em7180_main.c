@@ -17,6 +17,7 @@
 #include <linux/device.h>
 #include <linux/errno.h>
 #include <linux/interrupt.h>
+#include <linux/iopoll.h>
 #include <linux/kernel.h>
 #include <linux/module.h>
 #include <linux/mutex.h>
@@ -43,6 +44,10 @@
 #define EM7180_UPLOAD_TIMEOUT_US	4000000
 #define EM7180_STANDBY_POLL_US		1000
 #define EM7180_STANDBY_TIMEOUT_US	1000000
+/* Power-on reset; then the chip may not acknowledge for a while (§3) */
+#define EM7180_POWER_ON_US		10000
+#define EM7180_READY_POLL_US		5000
+#define EM7180_READY_TIMEOUT_US		200000
 
 #define EM7180_ACCEL_GYRO_HZ_PER_LSB	10
 
@@ -238,12 +243,12 @@ static int em7180_rate_regs(enum iio_chan_type type, unsigned int *reg,
  * reported instead.
  */
 static int em7180_read_freq(struct em7180_data *data,
-			    const struct iio_chan_spec *chan, int *val)
+			    enum iio_chan_type type, int *val)
 {
 	unsigned int reg, actual, hz_per_lsb, rate;
 	int ret;
 
-	ret = em7180_rate_regs(chan->type, &reg, &actual, &hz_per_lsb);
+	ret = em7180_rate_regs(type, &reg, &actual, &hz_per_lsb);
 	if (ret)
 		return ret;
 
@@ -290,19 +295,16 @@ static int em7180_write_freq(struct em7180_data *data,
 
 /*
  * Parameters 27..29 change only when the host writes them, so calibbias is
- * read from a copy: a parameter transfer pauses the fusion algorithm, which
- * a reader of the world-readable attribute must not be able to do. The copy
- * is filled at probe and again after a transfer that failed may have
- * changed the chip's values.
+ * served from a copy: a parameter transfer pauses the fusion algorithm,
+ * which a reader of the world-readable attribute must not be able to do.
+ * The copy is filled by the driver's own transfers only: at probe, by
+ * calibbias writes, calibration_data transfers, suspend and resume.
  */
 static int em7180_accel_offset_fetch(struct em7180_data *data)
 {
 	int ret;
 
 	lockdep_assert_held(&data->lock);
-
-	if (data->accel_offset_valid)
-		return 0;
 
 	ret = em7180_params_read(data, EM7180_ACCEL_OFFSET_PARAM,
 				 ARRAY_SIZE(data->accel_offset),
@@ -321,32 +323,50 @@ static void em7180_accel_offset_set(struct em7180_data *data, const u32 *ws)
 	data->accel_offset_valid = true;
 }
 
-static int em7180_read_calibbias(struct em7180_data *data,
-				 const struct iio_chan_spec *chan, int *val)
+/**
+ * em7180_read_calibbias() - an accelerometer offset, from the driver's copy
+ * @data: driver state
+ * @axis: 0 to 2 for x, y, z
+ * @val: where to store the offset in LSB
+ *
+ * Never touches the bus, and works while a buffer is enabled.
+ *
+ * Return: 0, or -ENODATA while the copy is unknown (a transfer that would
+ * have refreshed it failed), -ERANGE for a value that is no offset.
+ */
+int em7180_read_calibbias(struct em7180_data *data, unsigned int axis,
+			  int *val)
 {
-	unsigned int axis = (chan->address - EM7180_REG_AX) / 2;
+	bool valid;
 	u32 bits;
-	int ret;
 
 	mutex_lock(&data->lock);
-	ret = em7180_accel_offset_fetch(data);
+	valid = data->accel_offset_valid;
 	bits = data->accel_offset[axis];
 	mutex_unlock(&data->lock);
-	if (ret)
-		return ret;
+	if (!valid)
+		return -ENODATA;
 
-	ret = em7180_float_g_to_lsb(bits, val);
-	if (ret)
-		return ret;
-
-	return IIO_VAL_INT;
+	return em7180_float_g_to_lsb(bits, val);
 }
+EXPORT_SYMBOL_IF_KUNIT(em7180_read_calibbias);
 
-static int em7180_write_calibbias(struct em7180_data *data,
-				  const struct iio_chan_spec *chan, int val)
+/**
+ * em7180_write_calibbias() - write an accelerometer offset
+ * @data: driver state
+ * @axis: 0 to 2 for x, y, z
+ * @val: offset in LSB, -32768 to 32767
+ *
+ * When the copy of the offsets is unknown, or the write failed after the
+ * chip may have taken the value, the offsets are read back in a transfer
+ * of the driver's own.
+ *
+ * Return: 0, -EINVAL for a value out of range, or the transfer's error.
+ */
+int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
+			   int val)
 {
-	unsigned int param = EM7180_ACCEL_OFFSET_PARAM +
-			     (chan->address - EM7180_REG_AX) / 2;
+	unsigned int param = EM7180_ACCEL_OFFSET_PARAM + axis;
 	u32 bits;
 	int ret;
 
@@ -357,19 +377,20 @@ static int em7180_write_calibbias(struct em7180_data *data,
 
 	mutex_lock(&data->lock);
 	ret = em7180_params_write(data, param, 1, &bits);
-	if (ret) {
-		/* The chip may have taken the value before the error */
-		data->accel_offset_valid = false;
+	if (!ret && data->accel_offset_valid) {
+		data->accel_offset[axis] = bits;
 	} else {
-		data->accel_offset[param - EM7180_ACCEL_OFFSET_PARAM] = bits;
-		/* Keep the copy re-applied after a power loss in step */
-		if (data->ws_valid)
-			put_unaligned_le32(bits, &data->ws[(param - EM7180_WS_FIRST_PARAM) * 4]);
+		data->accel_offset_valid = false;
+		em7180_accel_offset_fetch(data);
 	}
+	/* Keep the copy re-applied after a power loss in step */
+	if (!ret && data->ws_valid)
+		put_unaligned_le32(bits, &data->ws[(param - EM7180_WS_FIRST_PARAM) * 4]);
 	mutex_unlock(&data->lock);
 
 	return ret;
 }
+EXPORT_SYMBOL_IF_KUNIT(em7180_write_calibbias);
 
 static int em7180_read_raw_vec(struct em7180_data *data,
 			       const struct iio_chan_spec *chan, int *val)
@@ -461,14 +482,12 @@ static int em7180_read_raw_multi(struct iio_dev *indio_dev,
 	case IIO_CHAN_INFO_SCALE:
 		return em7180_read_scale(chan, &vals[0], &vals[1]);
 	case IIO_CHAN_INFO_SAMP_FREQ:
-		return em7180_read_freq(data, chan, vals);
+		return em7180_read_freq(data, chan->type, vals);
 	case IIO_CHAN_INFO_CALIBBIAS:
-		ret = iio_device_claim_direct_mode(indio_dev);
-		if (ret)
-			return ret;
-		ret = em7180_read_calibbias(data, chan, vals);
-		iio_device_release_direct_mode(indio_dev);
-		return ret;
+		ret = em7180_read_calibbias(data,
+					    (chan->address - EM7180_REG_AX) / 2,
+					    vals);
+		return ret ?: IIO_VAL_INT;
 	default:
 		return -EINVAL;
 	}
@@ -513,7 +532,9 @@ static int em7180_write_raw(struct iio_dev *indio_dev,
 		ret = em7180_write_freq(data, chan, val);
 		break;
 	case IIO_CHAN_INFO_CALIBBIAS:
-		ret = em7180_write_calibbias(data, chan, val);
+		ret = em7180_write_calibbias(data,
+					     (chan->address - EM7180_REG_AX) / 2,
+					     val);
 		break;
 	default:
 		ret = -EINVAL;
@@ -819,7 +840,7 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 		em7180_accel_offset_set(data, vals);
 	} else {
 		/* Some parameters may have been written before the error */
-		data->accel_offset_valid = false;
+		em7180_accel_offset_fetch(data);
 	}
 	mutex_unlock(&data->lock);
 
@@ -907,7 +928,12 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 	struct iio_dev *indio_dev = pf->indio_dev;
 	struct em7180_data *data = iio_priv(indio_dev);
 	const unsigned long *mask = indio_dev->active_scan_mask;
-	bool own = iio_trigger_using_own(indio_dev);
+	/*
+	 * Not iio_trigger_using_own(): the core marks the trigger as the
+	 * device's own only after enabling it, and a scan in between would
+	 * take the poll function's time, which nothing set on this path.
+	 */
+	bool own = data->trig && indio_dev->trig == data->trig;
 	const struct iio_chan_spec *lo, *hi;
 	unsigned int bit, start, len, pos = 0;
 	s64 ts = pf->timestamp;
@@ -918,6 +944,8 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 
 	if (own)
 		ts = data->scan_ts;
+	if (!ts)
+		ts = iio_get_time_ns(indio_dev);
 
 	bit = find_first_bit(mask, EM7180_SCAN_TIMESTAMP);
 	if (bit < EM7180_SCAN_TIMESTAMP) {
@@ -971,6 +999,8 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
 	return IRQ_WAKE_THREAD;
 }
 
+static int em7180_chip_recover(struct em7180_data *data);
+
 /*
  * Reading EventStatus clears it and releases the INT line. The line is a
  * level that only a successful read lowers: on an edge-triggered interrupt
@@ -980,6 +1010,9 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
  * The time of the interrupt is taken before that read: once INT is low
  * the next sample can raise a new edge, whose hard handler overwrites
  * data->timestamp before this scan has been captured.
+ *
+ * CPUReset means the chip reset itself (a brown-out, a watchdog): its
+ * configuration and calibration are gone and no data would come any more.
  */
 static irqreturn_t em7180_irq_thread(int irq, void *p)
 {
@@ -996,6 +1029,8 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	} while (ret && --tries);
 	if (!ret && (status & EM7180_EVENT_ERROR))
 		err_ret = regmap_read(data->regmap, EM7180_REG_ERROR, &err);
+	if (!ret && (status & EM7180_EVENT_CPU_RESET))
+		em7180_chip_recover(data);
 	mutex_unlock(&data->lock);
 	if (ret) {
 		dev_err_ratelimited(data->dev,
@@ -1010,7 +1045,8 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	else if (status & EM7180_EVENT_ERROR)
 		dev_err_ratelimited(data->dev, "chip error 0x%02x\n", err);
 
-	if (status & EM7180_EVENT_DATA) {
+	if ((status & EM7180_EVENT_DATA) &&
+	    !(status & EM7180_EVENT_CPU_RESET)) {
 		/* The trigger handler runs nested, in this thread */
 		data->scan_ts = ts;
 		em7180_trigger_poll_nested(data->trig);
@@ -1019,42 +1055,82 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	return IRQ_HANDLED;
 }
 
+static bool em7180_mask_has(const unsigned long *mask, unsigned int first)
+{
+	return find_next_bit(mask, first + 3, first) < first + 3;
+}
+
+/*
+ * One event paces the scans, so that each scan is one step of the chip:
+ * the quaternion when it is captured (the fusion step), else the fastest
+ * captured sensor, ties going to the gyroscope; the gyroscope for the
+ * timestamp alone. A scan holds what the chip has for the other channels,
+ * which for a slower sensor is its last sample again.
+ */
+static unsigned int em7180_pace_event(struct em7180_data *data,
+				      const unsigned long *mask)
+{
+	static const struct {
+		unsigned int first;
+		unsigned int event;
+		enum iio_chan_type type;
+	} sensors[] = {
+		{ EM7180_SCAN_ANGLVEL_X, EM7180_EVENT_GYRO, IIO_ANGL_VEL },
+		{ EM7180_SCAN_ACCEL_X, EM7180_EVENT_ACCEL, IIO_ACCEL },
+		{ EM7180_SCAN_MAGN_X, EM7180_EVENT_MAG, IIO_MAGN },
+	};
+	unsigned int i, reg, actual, hz_per_lsb, rate, best = 0;
+	unsigned int event = EM7180_EVENT_GYRO;
+
+	lockdep_assert_held(&data->lock);
+
+	if (test_bit(EM7180_SCAN_QUAT, mask))
+		return EM7180_EVENT_QUAT;
+
+	for (i = 0; i < ARRAY_SIZE(sensors); i++) {
+		if (!em7180_mask_has(mask, sensors[i].first) ||
+		    em7180_rate_regs(sensors[i].type, &reg, &actual,
+				     &hz_per_lsb) ||
+		    regmap_read(data->regmap, reg, &rate))
+			continue;
+		if (rate * hz_per_lsb > best) {
+			best = rate * hz_per_lsb;
+			event = sensors[i].event;
+		}
+	}
+
+	return event;
+}
+
 static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 {
 	struct iio_dev *indio_dev = iio_trigger_get_drvdata(trig);
 	struct em7180_data *data = iio_priv(indio_dev);
 	const unsigned long *mask = indio_dev->active_scan_mask;
-	unsigned int events = EM7180_EVENT_ERROR;
-	int ret;
-
-	/* Interrupt on new data of the sensors whose channels are captured */
-	if (state && mask) {
-		if (test_bit(EM7180_SCAN_QUAT, mask))
-			events |= EM7180_EVENT_QUAT;
-		if (test_bit(EM7180_SCAN_MAGN_X, mask) ||
-		    test_bit(EM7180_SCAN_MAGN_Y, mask) ||
-		    test_bit(EM7180_SCAN_MAGN_Z, mask))
-			events |= EM7180_EVENT_MAG;
-		if (test_bit(EM7180_SCAN_ACCEL_X, mask) ||
-		    test_bit(EM7180_SCAN_ACCEL_Y, mask) ||
-		    test_bit(EM7180_SCAN_ACCEL_Z, mask))
-			events |= EM7180_EVENT_ACCEL;
-		if (test_bit(EM7180_SCAN_ANGLVEL_X, mask) ||
-		    test_bit(EM7180_SCAN_ANGLVEL_Y, mask) ||
-		    test_bit(EM7180_SCAN_ANGLVEL_Z, mask))
-			events |= EM7180_EVENT_GYRO;
-		/* Only the timestamp: pace it with the gyroscope */
-		if (events == EM7180_EVENT_ERROR)
-			events |= EM7180_EVENT_GYRO;
-	}
+	unsigned int events = EM7180_EVENT_ALWAYS, status;
+	int ret, tries = EM7180_EVENT_READ_TRIES;
 
 	mutex_lock(&data->lock);
+	data->pace_event = state && mask ? em7180_pace_event(data, mask) : 0;
+	events |= data->pace_event;
 	/* A new capture: nothing pushed yet that a scan could repeat */
 	data->last_len = 0;
 	ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS, events);
 	if (ret && !state)
 		ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
 				   events);
+	/*
+	 * An event left pending keeps INT high, and on an edge-triggered
+	 * line no edge, no interrupt and no scan would ever come: read it.
+	 */
+	if (!ret && state) {
+		do {
+			ret = regmap_read(data->regmap,
+					  EM7180_REG_EVENT_STATUS, &status);
+		} while (ret && --tries);
+		if (!ret && (status & EM7180_EVENT_CPU_RESET))
+			ret = em7180_chip_recover(data);
+	}
 	mutex_unlock(&data->lock);
 
 	/*
@@ -1071,6 +1147,49 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 
 	return ret;
 }
+
+/*
+ * The trigger fires once per scan, at the rate of the event pacing the
+ * capture; while none runs, at the rate a scan of every channel would get
+ * (the quaternion's: the gyroscope rate, QRateDivisor being 0).
+ */
+static ssize_t sampling_frequency_show(struct device *dev,
+				       struct device_attribute *attr,
+				       char *buf)
+{
+	struct iio_dev *indio_dev = iio_trigger_get_drvdata(to_iio_trigger(dev));
+	struct em7180_data *data = iio_priv(indio_dev);
+	enum iio_chan_type type;
+	int ret, hz;
+
+	mutex_lock(&data->lock);
+	switch (data->pace_event) {
+	case EM7180_EVENT_MAG:
+		type = IIO_MAGN;
+		break;
+	case EM7180_EVENT_ACCEL:
+		type = IIO_ACCEL;
+		break;
+	default:
+		type = IIO_ANGL_VEL;
+		break;
+	}
+	mutex_unlock(&data->lock);
+
+	ret = em7180_read_freq(data, type, &hz);
+	if (ret < 0)
+		return ret;
+
+	return sysfs_emit(buf, "%d\n", hz);
+}
+
+static DEVICE_ATTR_RO(sampling_frequency);
+
+static struct attribute *em7180_trigger_attrs[] = {
+	&dev_attr_sampling_frequency.attr,
+	NULL
+};
+ATTRIBUTE_GROUPS(em7180_trigger);
 
 static const struct iio_trigger_ops em7180_trigger_ops = {
 	.set_trigger_state = em7180_trigger_set_state,
@@ -1089,6 +1208,7 @@ static int em7180_trigger_probe(struct iio_dev *indio_dev, int irq)
 		return -ENOMEM;
 
 	data->trig->ops = &em7180_trigger_ops;
+	data->trig->dev.groups = em7180_trigger_groups;
 	iio_trigger_set_drvdata(data->trig, indio_dev);
 
 	ret = devm_request_threaded_irq(dev, irq, em7180_irq_handler,
@@ -1106,19 +1226,26 @@ static int em7180_trigger_probe(struct iio_dev *indio_dev, int irq)
 	return 0;
 }
 
+static int em7180_read_status(struct em7180_data *data, unsigned int *status)
+{
+	return regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, status);
+}
+
 /*
  * After power-on or a reset the chip uploads its firmware from EEPROM; a
  * chip found stuck is reset once (EM7180 register reference §3 and §5).
- * Reports nothing itself: probe and resume word the failure each their own
- * way, from the last SentralStatus left in @status.
+ * While it resets it may not acknowledge its address at all (the
+ * reference drivers wait about 50 ms): a bus error is one more poll, and
+ * only the last one counts. Reports nothing itself: probe and resume word
+ * the failure each their own way, from the last SentralStatus in @status.
  *
  * Return: 0, -ENODEV without a firmware EEPROM, -EIO for a failed upload,
- * or the bus error.
+ * -ETIMEDOUT, or the bus error.
  */
 static int em7180_wait_firmware(struct em7180_data *data,
 				unsigned int *status)
 {
-	int ret, tries;
+	int ret, err, tries;
 
 	for (tries = 0; tries < 2; tries++) {
 		if (tries) {
@@ -1131,29 +1258,36 @@ static int em7180_wait_firmware(struct em7180_data *data,
 				return ret;
 		}
 
-		ret = regmap_read_poll_timeout(data->regmap,
-					       EM7180_REG_SENTRAL_STATUS, *status,
-					       *status & (EM7180_SENTRAL_UPLOAD_DONE |
-							  EM7180_SENTRAL_UPLOAD_ERR |
-							  EM7180_SENTRAL_NO_EEPROM),
-					       EM7180_UPLOAD_POLL_US,
-					       EM7180_UPLOAD_TIMEOUT_US);
-		if (ret && ret != -ETIMEDOUT)
-			return ret;
+		ret = read_poll_timeout(em7180_read_status, err,
+					!err && (*status & (EM7180_SENTRAL_UPLOAD_DONE |
+							    EM7180_SENTRAL_UPLOAD_ERR |
+							    EM7180_SENTRAL_NO_EEPROM)),
+					EM7180_UPLOAD_POLL_US,
+					EM7180_UPLOAD_TIMEOUT_US, false, data,
+					status);
+		if (ret && err)
+			return err;
 		if (!ret && (*status & EM7180_SENTRAL_UPLOAD_DONE) &&
 		    !(*status & EM7180_SENTRAL_UPLOAD_ERR))
 			return 0;
 	}
 
+	if (ret)
+		return ret;
 	return *status & EM7180_SENTRAL_NO_EEPROM ? -ENODEV : -EIO;
 }
 
 /*
- * Scaled NED quaternion output (AlgorithmControl = 0), quaternion at the
- * gyroscope rate, error interrupts, algorithm running. Also leaves any
- * parameter transfer an earlier user may have abandoned.
+ * Configure while HostControl is 0, then run (EM7180 register reference
+ * §3): the rates and outputs are set before the sensors start. Leaves any
+ * parameter transfer an earlier user may have abandoned, and reads
+ * EventStatus, which holds the CPUReset of the upload, so that enabling
+ * the reset event does not report a reset at once.
+ *
+ * After a power loss the same registers come from the cache, in the same
+ * order: HostControl last.
  */
-static int em7180_chip_init(struct em7180_data *data)
+static int em7180_chip_configure(struct em7180_data *data, bool from_cache)
 {
 	static const struct reg_sequence init_seq[] = {
 		{ EM7180_REG_PARAM_REQ, 0 },
@@ -1162,14 +1296,44 @@ static int em7180_chip_init(struct em7180_data *data)
 		{ EM7180_REG_ACCEL_RATE, 100 / EM7180_ACCEL_GYRO_HZ_PER_LSB },
 		{ EM7180_REG_GYRO_RATE, 100 / EM7180_ACCEL_GYRO_HZ_PER_LSB },
 		{ EM7180_REG_QRATE_DIVISOR, 0 },
-		{ EM7180_REG_ENABLE_EVENTS, EM7180_EVENT_ERROR },
+		{ EM7180_REG_ENABLE_EVENTS, EM7180_EVENT_ALWAYS },
 		{ EM7180_REG_HOST_CTRL, EM7180_HOST_CTRL_RUN },
 	};
+	unsigned int status;
+	int ret;
 
-	return regmap_multi_reg_write(data->regmap, init_seq,
-				      ARRAY_SIZE(init_seq));
+	if (!from_cache) {
+		ret = regmap_multi_reg_write(data->regmap, init_seq,
+					     ARRAY_SIZE(init_seq));
+	} else {
+		regcache_mark_dirty(data->regmap);
+		ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
+		if (!ret)
+			ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+		if (!ret)
+			ret = regcache_sync_region(data->regmap,
+						   EM7180_REG_MAG_RATE,
+						   EM7180_REG_GYRO_RATE);
+		if (!ret)
+			ret = regcache_sync_region(data->regmap,
+						   EM7180_REG_QRATE_DIVISOR,
+						   EM7180_REG_ENABLE_EVENTS);
+		if (!ret)
+			ret = regcache_sync_region(data->regmap,
+						   EM7180_REG_HOST_CTRL,
+						   EM7180_REG_HOST_CTRL);
+	}
+	if (ret)
+		return ret;
+
+	return regmap_read(data->regmap, EM7180_REG_EVENT_STATUS, &status);
 }
 
+/*
+ * Standby, as for system sleep: the fusion algorithm halts. A chip that
+ * does not confirm it is not a reason to keep the system awake, nor left
+ * halted for good: the caller resumes it whatever happened.
+ */
 static int em7180_standby(struct em7180_data *data)
 {
 	unsigned int status;
@@ -1180,36 +1344,59 @@ static int em7180_standby(struct em7180_data *data)
 	if (ret)
 		return ret;
 
-	return regmap_read_poll_timeout(data->regmap, EM7180_REG_ALGO_STATUS,
-					status,
-					status & EM7180_ALGO_STATUS_HALTED,
-					EM7180_STANDBY_POLL_US,
-					EM7180_STANDBY_TIMEOUT_US);
+	ret = regmap_read_poll_timeout(data->regmap, EM7180_REG_ALGO_STATUS,
+				       status,
+				       status & EM7180_ALGO_STATUS_HALTED,
+				       EM7180_STANDBY_POLL_US,
+				       EM7180_STANDBY_TIMEOUT_US);
+	if (ret)
+		dev_warn(data->dev,
+			 "standby not confirmed (%d); resume runs the algorithm again\n",
+			 ret);
+
+	return 0;
 }
 
-static void em7180_standby_action(void *arg)
+/*
+ * What unbinding leaves: the chip running as the driver configured it,
+ * out of parameter transfer, with data interrupts off. The algorithm keeps
+ * tracking and learning, and a user of i2c-dev (sentral-warmstart --i2c)
+ * finds a chip that serves parameter transfers, which firmware does not
+ * do in standby (the EM host driver leaves standby for them).
+ */
+static void em7180_unbind_action(void *arg)
 {
 	struct em7180_data *data = arg;
+	static const struct reg_sequence seq[] = {
+		{ EM7180_REG_ENABLE_EVENTS, 0 },
+		{ EM7180_REG_PARAM_REQ, 0 },
+		{ EM7180_REG_ALGO_CTRL, 0 },
+	};
 
 	mutex_lock(&data->lock);
-	em7180_standby(data);
+	if (regmap_multi_reg_write(data->regmap, seq, ARRAY_SIZE(seq)))
+		dev_warn(data->dev, "chip not left running\n");
 	mutex_unlock(&data->lock);
 }
 
 /*
  * Another ProductID or RevisionID may be a compatible part the driver was
  * not tested with: say so and go on, as bno055 does. Userspace compares
- * the identity before restoring a saved calibration.
+ * the identity before restoring a saved calibration. The first access
+ * after power-on may come while the chip still resets and does not
+ * acknowledge its address: it is repeated for a while.
  */
 static int em7180_check_id(struct em7180_data *data)
 {
 	u8 id[2];
-	int ret;
+	int ret, err;
 
-	ret = regmap_bulk_read(data->regmap, EM7180_REG_PRODUCT_ID, id,
-			       sizeof(id));
+	ret = read_poll_timeout(regmap_bulk_read, err, !err,
+				EM7180_READY_POLL_US, EM7180_READY_TIMEOUT_US,
+				false, data->regmap, EM7180_REG_PRODUCT_ID, id,
+				sizeof(id));
 	if (ret)
-		return dev_err_probe(data->dev, ret, "failed to read chip ID\n");
+		return dev_err_probe(data->dev, err, "failed to read chip ID\n");
 
 	if (id[0] != EM7180_PRODUCT_ID || id[1] != EM7180_REVISION_ID)
 		dev_warn(data->dev,
@@ -1260,6 +1447,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	data = iio_priv(indio_dev);
 	data->dev = dev;
 	data->regmap = regmap;
+	data->irq = irq > 0 ? irq : 0;
 	mutex_init(&data->lock);
 	em7180_param_init(data);
 	dev_set_drvdata(dev, indio_dev);
@@ -1268,6 +1456,8 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 					     regulators);
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to enable regulators\n");
+	/* Power-on reset of the chip */
+	fsleep(EM7180_POWER_ON_US);
 
 	ret = iio_read_mount_matrix(dev, &data->orientation);
 	if (ret)
@@ -1288,20 +1478,21 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 		return dev_err_probe(dev, ret,
 				     "failed to read firmware versions\n");
 
-	ret = em7180_chip_init(data);
+	ret = em7180_chip_configure(data, false);
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to configure the chip\n");
 
-	ret = devm_add_action_or_reset(dev, em7180_standby_action, data);
+	ret = devm_add_action_or_reset(dev, em7180_unbind_action, data);
 	if (ret)
 		return ret;
 
+	/* Streaming works without: calibbias reads fail until a transfer */
 	mutex_lock(&data->lock);
 	ret = em7180_accel_offset_fetch(data);
 	mutex_unlock(&data->lock);
 	if (ret)
-		return dev_err_probe(dev, ret,
-				     "failed to read the accelerometer offsets\n");
+		dev_warn(dev, "cannot read the accelerometer offsets: %d\n",
+			 ret);
 
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;
@@ -1309,8 +1500,8 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	indio_dev->num_channels = ARRAY_SIZE(em7180_channels);
 	indio_dev->modes = INDIO_DIRECT_MODE;
 
-	if (irq > 0) {
-		ret = em7180_trigger_probe(indio_dev, irq);
+	if (data->irq) {
+		ret = em7180_trigger_probe(indio_dev, data->irq);
 		if (ret)
 			return ret;
 	}
@@ -1326,16 +1517,34 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 EXPORT_SYMBOL_NS_GPL(em7180_core_probe, IIO_EM7180);
 
 /**
- * em7180_chip_suspend() - put the fusion algorithm in standby
+ * em7180_chip_suspend() - keep the calibration and put the algorithm in standby
  * @data: driver state
  *
- * Return: 0 or a negative error code.
+ * The warm start the chip has learned so far is read first: if the chip
+ * loses power while the system sleeps, resume writes it back, not the one
+ * of boot time. A failed read keeps the last one known.
+ *
+ * Return: 0, or the error of the standby request, when the chip still runs.
  */
 int em7180_chip_suspend(struct em7180_data *data)
 {
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	unsigned int i;
 	int ret;
 
 	mutex_lock(&data->lock);
+	ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM,
+				 EM7180_WS_NUM_PARAMS, vals);
+	if (ret) {
+		dev_warn(data->dev,
+			 "cannot read the calibration before sleep: %d\n", ret);
+	} else {
+		for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+			put_unaligned_le32(vals[i], &data->ws[4 * i]);
+		data->ws_valid = !em7180_warmstart_check(data->ws, 0,
+							 EM7180_WS_SIZE, true);
+		em7180_accel_offset_set(data, vals);
+	}
 	ret = em7180_standby(data);
 	mutex_unlock(&data->lock);
 
@@ -1344,14 +1553,55 @@ int em7180_chip_suspend(struct em7180_data *data)
 EXPORT_SYMBOL_IF_KUNIT(em7180_chip_suspend);
 
 /*
- * One attempt at em7180_chip_resume(). @lost is set once a power loss has
- * been seen: a failed attempt may have set the chip running already, after
- * which SentralStatus no longer shows it.
+ * The calibration back after a reset, if it suits the firmware now
+ * running, as sentral-warmstart checks a saved file: same ROM and RAM
+ * versions. Else what is skipped is logged and the offsets are read from
+ * the chip, which is what it now holds.
  */
-static int em7180_chip_restore(struct em7180_data *data, bool *lost)
+static int em7180_restore_calibration(struct em7180_data *data, u16 rom,
+				      u16 ram)
 {
 	u32 vals[EM7180_WS_NUM_PARAMS];
-	unsigned int status = 0, i;
+	unsigned int i;
+	int ret;
+
+	if (rom != data->rom_version || ram != data->ram_version) {
+		dev_warn(data->dev,
+			 "firmware changed (ROM 0x%04x RAM 0x%04x, was 0x%04x 0x%04x): calibration and accelerometer offsets not restored\n",
+			 data->rom_version, data->ram_version, rom, ram);
+		data->ws_valid = false;
+		return em7180_accel_offset_fetch(data);
+	}
+
+	if (data->ws_valid) {
+		for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+			vals[i] = get_unaligned_le32(&data->ws[4 * i]);
+		ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
+					  EM7180_WS_NUM_PARAMS, vals);
+		if (!ret)
+			em7180_accel_offset_set(data, vals);
+		return ret;
+	}
+
+	/* Offsets written while no warm start was known */
+	if (data->accel_offset_valid)
+		return em7180_params_write(data, EM7180_ACCEL_OFFSET_PARAM,
+					   ARRAY_SIZE(data->accel_offset),
+					   data->accel_offset);
+
+	return em7180_accel_offset_fetch(data);
+}
+
+/*
+ * One attempt at em7180_chip_resume(). @lost is set once a power loss has
+ * been seen: a failed attempt may have set the chip running already, after
+ * which SentralStatus no longer shows it. @rom and @ram hold the versions
+ * from before the loss.
+ */
+static int em7180_chip_restore(struct em7180_data *data, bool *lost,
+			       u16 *rom, u16 *ram)
+{
+	unsigned int status = 0;
 	int ret;
 
 	ret = regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, &status);
@@ -1361,10 +1611,13 @@ static int em7180_chip_restore(struct em7180_data *data, bool *lost)
 	if (!*lost && !(status & EM7180_SENTRAL_STANDBY))
 		return regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
 
-	if (!*lost)
+	if (!*lost) {
 		dev_info(data->dev, "chip lost power, restoring its state\n");
+		*rom = data->rom_version;
+		*ram = data->ram_version;
+	}
 	*lost = true;
-	data->accel_offset_valid = false;
+	data->ack_known = false;
 
 	ret = em7180_wait_firmware(data, &status);
 	if (ret) {
@@ -1376,26 +1629,32 @@ static int em7180_chip_restore(struct em7180_data *data, bool *lost)
 
 	/* The firmware was uploaded again, maybe a different one */
 	ret = em7180_read_versions(data);
-	if (ret)
-		return ret;
-
-	regcache_mark_dirty(data->regmap);
-	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
 	if (!ret)
-		ret = regcache_sync_region(data->regmap,
-					   EM7180_REG_QRATE_DIVISOR,
-					   EM7180_REG_GYRO_RATE);
-	if (ret)
-		return ret;
-	if (!data->ws_valid)
-		return em7180_accel_offset_fetch(data);
-
-	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
-		vals[i] = get_unaligned_le32(&data->ws[4 * i]);
-	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
-				  EM7180_WS_NUM_PARAMS, vals);
+		ret = em7180_chip_configure(data, true);
 	if (!ret)
-		em7180_accel_offset_set(data, vals);
+		ret = em7180_restore_calibration(data, *rom, *ram);
+
+	return ret;
+}
+
+/*
+ * A reset of the chip's own, seen as CPUReset: the same as a power loss,
+ * with @data->lock held.
+ */
+static int em7180_chip_recover(struct em7180_data *data)
+{
+	u16 rom = data->rom_version, ram = data->ram_version;
+	bool lost = true;
+	int ret;
+
+	lockdep_assert_held(&data->lock);
+
+	dev_warn(data->dev,
+		 "the chip reset itself; restoring its configuration and calibration\n");
+	ret = em7180_chip_restore(data, &lost, &rom, &ram);
+	if (ret)
+		dev_err(data->dev, "cannot restore the chip after its reset: %d\n",
+			ret);
 
 	return ret;
 }
@@ -1406,8 +1665,10 @@ static int em7180_chip_restore(struct em7180_data *data, bool *lost)
  *
  * SentralStatus shows the CPU in its standby state only after a reset: a
  * suspended chip keeps executing with just the algorithm halted. After a
- * reset the firmware versions are read again, and the configuration and
- * the last warm start read or written through the driver are written back.
+ * reset the firmware versions are read again, the configuration written
+ * back with HostControl last, and the warm start saved at suspend (or the
+ * accelerometer offsets, when none is known) restored if the firmware is
+ * the same.
  *
  * A chip left half restored would stay so, maybe not even running, until
  * the next resume: after a bus error the whole sequence, whose steps can
@@ -1418,27 +1679,58 @@ static int em7180_chip_restore(struct em7180_data *data, bool *lost)
  */
 int em7180_chip_resume(struct em7180_data *data)
 {
+	u16 rom = 0, ram = 0;
 	bool lost = false;
 	int ret;
 
 	mutex_lock(&data->lock);
-	ret = em7180_chip_restore(data, &lost);
+	ret = em7180_chip_restore(data, &lost, &rom, &ram);
 	if (ret && ret != -ETIMEDOUT && ret != -ENODEV)
-		ret = em7180_chip_restore(data, &lost);
+		ret = em7180_chip_restore(data, &lost, &rom, &ram);
 	mutex_unlock(&data->lock);
 
 	return ret;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_chip_resume);
 
+/*
+ * No interrupt and no trigger across system sleep, as bmi323 does: the
+ * chip's data interrupts would come while the bus is suspended.
+ */
 static int em7180_suspend(struct device *dev)
 {
-	return em7180_chip_suspend(iio_priv(dev_get_drvdata(dev)));
+	struct iio_dev *indio_dev = dev_get_drvdata(dev);
+	struct em7180_data *data = iio_priv(indio_dev);
+	int ret;
+
+	ret = em7180_suspend_triggering(indio_dev);
+	if (ret)
+		return ret;
+	if (data->irq)
+		disable_irq(data->irq);
+
+	ret = em7180_chip_suspend(data);
+	if (ret) {
+		if (data->irq)
+			enable_irq(data->irq);
+		em7180_resume_triggering(indio_dev);
+	}
+
+	return ret;
 }
 
 static int em7180_resume(struct device *dev)
 {
-	return em7180_chip_resume(iio_priv(dev_get_drvdata(dev)));
+	struct iio_dev *indio_dev = dev_get_drvdata(dev);
+	struct em7180_data *data = iio_priv(indio_dev);
+	int ret;
+
+	ret = em7180_chip_resume(data);
+	if (data->irq)
+		enable_irq(data->irq);
+	em7180_resume_triggering(indio_dev);
+
+	return ret;
 }
 
 EXPORT_NS_GPL_SIMPLE_DEV_PM_OPS(em7180_pm_ops, em7180_suspend, em7180_resume,

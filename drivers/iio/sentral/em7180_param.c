@@ -190,11 +190,16 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
 /**
  * em7180_param_init() - set the initial parameter acknowledge estimate
  * @data: driver state
+ *
+ * Also forgets what ParamAcknowledge holds: the next transfer reads it
+ * before its first request.
  */
 void em7180_param_init(struct em7180_data *data)
 {
 	data->ack_wait_us = EM7180_ACK_WAIT_INIT_US;
 	data->ack_good_us = 0;
+	data->ack_known = false;
+	data->stop_unacked = false;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_param_init);
 
@@ -267,6 +272,9 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u32 *val,
 
 	if (val)
 		*val = get_unaligned_le32(&ack[1]);
+	/* The stop's latency is not a parameter's: learn nothing from it */
+	if (!batch)
+		return 0;
 
 	batch->best_us = min3(batch->best_us, waited, EM7180_ACK_WAIT_MAX_US);
 	data->ack_good_us = batch->best_us;
@@ -284,14 +292,40 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u32 *val,
  * End the procedure and leave the algorithm running. Written with explicit
  * values, never read-modify-write, so a retry after a failed write still
  * reaches the chip.
+ *
+ * After a clean transfer the stop is waited for: a firmware that serves
+ * ParamRequest = 0 like a request echoes 0 once it is done, and a host
+ * that clears bit 7 before then leaves the last request's echo in 0x3A.
+ * A firmware that never echoes the stop is waited for once; after that
+ * 0x3A is taken to keep the last request's echo. Either way the driver
+ * knows which stale echo the next transfer may meet.
  */
-static int em7180_param_end(struct em7180_data *data)
+static int em7180_param_end(struct em7180_data *data, bool clean, u8 last)
 {
-	int ret, ret2;
+	int ret, ret2, err;
 
 	ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
 	if (ret)
 		ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
+
+	data->ack_known = false;
+	if (!ret && clean && !data->stop_unacked) {
+		/* After a bus error here 0x3A is unknown, and read next time */
+		err = em7180_param_ack(data, 0, NULL, NULL);
+		if (!err) {
+			data->ack_stale = 0;
+			data->ack_known = true;
+		} else if (err == -ETIMEDOUT) {
+			dev_info(data->dev,
+				 "the firmware does not acknowledge the end of a parameter transfer\n");
+			data->stop_unacked = true;
+		}
+	}
+	if (!ret && clean && data->stop_unacked) {
+		/* What it echoed last; or 0, which no request equals */
+		data->ack_stale = last;
+		data->ack_known = true;
+	}
 
 	ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
 	if (ret2)
@@ -300,45 +334,92 @@ static int em7180_param_end(struct em7180_data *data)
 	return ret ?: ret2;
 }
 
+/*
+ * One request: the value and ParamRequest in one burst for a write, the
+ * request alone for a read, then its acknowledge. As in the reference
+ * drivers, bit 7 is set after the first request: the procedure never
+ * starts on a request somebody else left in ParamRequest.
+ */
+static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
+				u32 *out, bool *started,
+				struct em7180_batch *batch)
+{
+	u8 buf[5];
+	int ret;
+
+	if (req & EM7180_PARAM_WRITE) {
+		put_unaligned_le32(in, buf);
+		buf[4] = req;
+		ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM, buf,
+					sizeof(buf));
+	} else {
+		ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, req);
+	}
+	if (!ret && !*started) {
+		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
+				   EM7180_ALGO_CTRL_PARAM_XFER);
+		*started = true;
+	}
+	if (ret)
+		return ret;
+
+	return em7180_param_ack(data, req, out, batch);
+}
+
+/*
+ * An acknowledge equal to the request only proves the request was served
+ * if 0x3A held something else before: a firmware may keep its last echo
+ * from an earlier transfer (the reference only says it "echoes the
+ * ParamRequest value once served"). When what it holds is unknown it is
+ * read; when it equals the first request, a read of another parameter
+ * changes it first.
+ */
+static int em7180_param_unstale(struct em7180_data *data, u8 first_req,
+				bool *started, struct em7180_batch *batch)
+{
+	unsigned int n = first_req & ~EM7180_PARAM_WRITE;
+	unsigned int ack;
+	u32 dummy;
+	int ret;
+
+	if (!data->ack_known) {
+		ret = regmap_read(data->regmap, EM7180_REG_PARAM_ACK, &ack);
+		if (ret)
+			return ret;
+		data->ack_stale = ack;
+	}
+	if (data->ack_stale != first_req)
+		return 0;
+
+	return em7180_param_request(data, n % EM7180_PARAM_MAX + 1, 0, &dummy,
+				    started, batch);
+}
+
 static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
 			     unsigned int count, const u32 *in, u32 *out)
 {
 	struct em7180_batch batch = { .best_us = UINT_MAX };
+	u8 write = in ? EM7180_PARAM_WRITE : 0;
+	bool started = false;
 	unsigned int i;
-	u8 buf[5];
 	int ret, end;
-	u32 val;
-	u8 req;
+	u8 req = 0;
 
 	lockdep_assert_held(&data->lock);
 
 	if (!count || !first || first + count - 1 > EM7180_PARAM_MAX)
 		return -EINVAL;
 
-	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
-			   EM7180_ALGO_CTRL_PARAM_XFER);
+	ret = em7180_param_unstale(data, first | write, &started, &batch);
 
 	for (i = 0; !ret && i < count; i++) {
-		req = first + i;
-		if (in) {
-			req |= EM7180_PARAM_WRITE;
-			put_unaligned_le32(in[i], buf);
-			buf[4] = req;
-			ret = regmap_bulk_write(data->regmap,
-						EM7180_REG_LOAD_PARAM, buf,
-						sizeof(buf));
-		} else {
-			ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ,
-					   req);
-		}
-		if (!ret)
-			ret = em7180_param_ack(data, req, out ? &val : NULL,
-					       &batch);
-		if (!ret && out)
-			out[i] = val;
+		req = (first + i) | write;
+		ret = em7180_param_request(data, req, in ? in[i] : 0,
+					   out ? &out[i] : NULL, &started,
+					   &batch);
 	}
 
-	end = em7180_param_end(data);
+	end = em7180_param_end(data, !ret, req);
 
 	return ret ?: end;
 }
@@ -350,9 +431,10 @@ static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
  * @count: number of parameters
  * @vals: where to store the raw 32-bit values
  *
- * Costs one bus transaction to start, one ParamRequest write and normally
- * one acknowledge poll per parameter, and two to end. The transfer is ended
- * and the algorithm left running on every path.
+ * Costs one ParamRequest write and normally one acknowledge poll per
+ * parameter, one transaction to start and three to end (the stop, its
+ * acknowledge, bit 7 clear). The transfer is ended and the algorithm left
+ * running on every path.
  *
  * Return: 0, -EINVAL for a bad range, -ETIMEDOUT when a parameter is not
  * acknowledged within 1 s, or the bus error.
@@ -372,8 +454,9 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_params_read);
  * @vals: raw 32-bit values to write
  *
  * Each parameter is one 5-byte burst (LoadParamByte0..3 and ParamRequest)
- * followed by normally one acknowledge poll. The transfer is ended and the
- * algorithm left running on every path.
+ * followed by normally one acknowledge poll, which cannot be a stale echo
+ * of an earlier transfer. The transfer is ended and the algorithm left
+ * running on every path.
  *
  * Return: 0, -EINVAL for a bad range, -ETIMEDOUT when a parameter is not
  * acknowledged within 1 s, or the bus error.
