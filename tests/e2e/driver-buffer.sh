@@ -108,6 +108,16 @@ m=$(dbg_get samples mag)
 echo "# 200 scans: $q quaternion and $m magnetometer samples produced meanwhile"
 ok "no more scans than quaternion steps ($q)" [ 200 -le $((q + 2)) ]
 ok "and the magnetometer did not pace them ($m)" [ "$m" -lt 100 ]
+# Accelerometer at 50 Hz and magnetometer at 30 Hz: their events seldom
+# coincide, and each used to make a scan of its own.
+echo 50 >"$DEV/in_accel_sampling_frequency"
+knob samples 0
+ok "200 scans of accelerometer and magnetometer" \
+	sh -c "iio_readdev -b 16 -s 200 em7180 accel_x magn_x timestamp > $TMP/am.bin"
+a=$(dbg_get samples accel)
+echo "# 200 scans: $a accelerometer and $(dbg_get samples mag) magnetometer samples produced meanwhile"
+ok "no more scans than accelerometer samples ($a)" [ 200 -le $((a + 2)) ]
+echo 100 >"$DEV/in_accel_sampling_frequency"
 iio_readdev -b 4 -s 0 em7180 magn_x >/dev/null &
 pid=$!
 sleep 0.5

@@ -1,0 +1,94 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# System sleep of the em7180 driver on the simulated chip, through
+# /sys/power/pm_test "devices" (the devices suspend and resume, no wake-up
+# source needed): the algorithm running after a sleep, the calibration
+# learned since boot and the offsets back after a power loss in sleep, a
+# standby the chip never confirms, other firmware after the sleep, and a
+# capture that goes on across one.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tests/lib/em7180.sh"
+
+TMP=$(mktemp -d)
+
+chip_idle() {
+	[ "$(dbg_get state transfer)" = 0 ] && [ "$(dbg_get state running)" = 1 ]
+}
+
+# One system sleep: the devices suspend, 1 s passes, they resume.
+system_sleep() {
+	echo devices >/sys/power/pm_test &&
+		echo 1 >/sys/module/suspend/parameters/pm_test_delay &&
+		echo freeze >/sys/power/state
+}
+
+DEV=$(em7180_dir)
+ok "em7180 present" test -n "$DEV"
+knob gbias_period_ms 3600000
+
+ok "a system sleep" system_sleep
+ok "the algorithm runs after it" chip_idle
+is "not in standby" "$(dbg_get state standby)" 0
+
+# The chip learns after boot; nothing read the warm start through the
+# driver. A power loss in sleep must not lose what it learned.
+knob cal_duration_ms 300
+knob motion 1
+ok "calibrated by motion" wait_for 10 \
+	sh -c "[ \$(cat $DEV/in_magn_calibration_auto_status) = 3 ]"
+knob motion 0
+echo -47 >"$DEV/in_accel_x_calibbias"
+echo 200 >"$DEV/in_accel_sampling_frequency"
+before=$(sim_ws_params)
+knob standby_power_loss 1
+ok "a system sleep in which the chip loses power" system_sleep
+is "the power loss happened" "$(cat "$SIM_DBG/standby_power_loss")" 0
+like "the kernel log says so" "$(dmesg | grep em7180 | tail -n 5)" "lost power"
+ok "the algorithm runs after it" chip_idle
+is "the learned calibration is back: status 3" \
+	"$(cat "$DEV/in_magn_calibration_auto_status")" 3
+is "every warm-start parameter as before the sleep" "$(sim_ws_params)" "$before"
+is "the offset written since boot" "$(dbg_get params 27)" 0xbcbbe447
+is "calibbias reads it" "$(cat "$DEV/in_accel_x_calibbias")" -47
+is "the accelerometer rate" "$(cat "$DEV/in_accel_sampling_frequency")" 200
+echo 100 >"$DEV/in_accel_sampling_frequency"
+
+# A chip that never confirms the standby: the sleep goes on, and the
+# algorithm runs after it.
+knob standby_never 1
+ok "a system sleep with a standby never confirmed" system_sleep
+knob standby_never 0
+ok "the algorithm runs after it" chip_idle
+like "logged" "$(dmesg | grep em7180 | tail -n 5)" "standby not confirmed"
+
+# Other firmware after a power loss in sleep: the warm start of the old one
+# is not written (sentral-warmstart would refuse such a file too).
+ok "a warm start known to the driver" \
+	dd if="$DEV/calibration_data" of="$TMP/ws" bs=4096 status=none
+ram=$(cat "$SIM_DBG/ram_version")
+knob ram_version 0x0bad
+knob standby_power_loss 1
+ok "a system sleep with a power loss and a firmware update" system_sleep
+knob ram_version "$ram"
+is "the driver shows the new firmware" "$(cat "$DEV/ram_version")" 0x0bad
+like "and logs what it skipped" "$(dmesg | grep em7180 | tail -n 5)" \
+	"firmware changed .*not restored"
+is "the old calibration was not written: status 0" \
+	"$(cat "$DEV/in_magn_calibration_auto_status")" 0
+is "nor the offsets" "$(dbg_get params 27)" 0x00000000
+is "calibbias reads what the chip holds" "$(cat "$DEV/in_accel_x_calibbias")" 0
+ok "the algorithm runs" chip_idle
+
+# A capture across a sleep: the interrupt is off while asleep and the
+# stream goes on after.
+iio_readdev -T 5000 -b 16 -s 300 em7180 accel_x accel_y accel_z timestamp \
+	>"$TMP/cap.bin" 2>"$TMP/err" &
+pid=$!
+sleep 1
+ok "a system sleep while capturing" system_sleep
+wait "$pid"
+is "300 scans across the sleep" "$(stat -c %s "$TMP/cap.bin")" $((300 * 16))
+
+rm -rf "$TMP"
+done_testing
