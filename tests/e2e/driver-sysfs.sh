@@ -147,7 +147,10 @@ save_t=$(dbg_get stats transactions)
 save_bus=$(dbg_get stats bus_time_us)
 save_el=$(dbg_get stats elapsed_us)
 echo "# save of 35 parameters: $save_t transactions, bus_time_us $save_bus, elapsed_us $save_el"
-ok "save: at most 2 transactions per parameter + 4 ($save_t)" [ "$save_t" -le 74 ]
+# 2 per parameter + 4 (bit 7, the stop, its acknowledge, bit 7 clear), and
+# the poll that comes early when the acknowledge wait is shortened to
+# follow the firmware's latency (at most one per batch).
+ok "save: at most 2 transactions per parameter + 5 ($save_t)" [ "$save_t" -le 75 ]
 is "save: 35 requests served" "$(dbg_get stats params_served)" 35
 is "blob equals the chip's parameters" "$(blob_words <"$TMP/a")" "$(sim_ws_params)"
 ok "chip left running after save" chip_idle
@@ -162,7 +165,7 @@ rest_t=$(dbg_get stats transactions)
 rest_bus=$(dbg_get stats bus_time_us)
 rest_el=$(dbg_get stats elapsed_us)
 echo "# restore of 35 parameters: $rest_t transactions, bus_time_us $rest_bus, elapsed_us $rest_el"
-ok "restore: at most 2 transactions per parameter + 4 ($rest_t)" [ "$rest_t" -le 74 ]
+ok "restore: at most 2 transactions per parameter + 5 ($rest_t)" [ "$rest_t" -le 75 ]
 is "restore: 35 requests served" "$(dbg_get stats params_served)" 35
 is "chip holds the written blob" "$(sim_ws_params)" "$(blob_words <"$TMP/b")"
 ok "chip left running after restore" chip_idle

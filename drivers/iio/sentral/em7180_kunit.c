@@ -238,12 +238,10 @@ static void expect_ended(struct kunit *test, const struct em7180_emu *emu)
 	static const u8 zero;
 	unsigned int stop;
 
-	KUNIT_ASSERT_GE(test, emu->n_log, 3U);
-	stop = emu->n_log - 2;
-	if (!emu->log[stop].write) {
+	KUNIT_ASSERT_GE(test, emu->n_log, 2U);
+	/* the polls of the stop's acknowledge, if any */
+	for (stop = emu->n_log - 2; stop && !emu->log[stop].write; stop--)
 		expect_xfer(test, emu, stop, false, EM7180_REG_PARAM_ACK, NULL, 1);
-		stop--;
-	}
 	expect_xfer(test, emu, stop, true, EM7180_REG_PARAM_REQ, &zero, 1);
 	expect_xfer(test, emu, emu->n_log - 1, true, EM7180_REG_ALGO_CTRL,
 		    &zero, 1);
@@ -419,7 +417,9 @@ static void em7180_test_param_unknown_ack(struct kunit *test)
 
 /*
  * With a firmware latency the driver must find it within the batch and
- * stay within 2 transactions per parameter + 4, batch after batch.
+ * stay within 2 transactions per parameter + 4, batch after batch, plus
+ * the one poll per batch that comes early when the wait is shortened to
+ * follow a firmware that got faster.
  */
 static void em7180_test_param_latency(struct kunit *test)
 {
@@ -434,12 +434,12 @@ static void em7180_test_param_latency(struct kunit *test)
 		KUNIT_ASSERT_EQ(test, test_params_read(t, 1, EM7180_WS_NUM_PARAMS,
 						       vals), 0);
 		KUNIT_EXPECT_LE(test, emu->transactions,
-				2 * EM7180_WS_NUM_PARAMS + 4);
+				2 * EM7180_WS_NUM_PARAMS + 5);
 		emu->transactions = 0;
 		KUNIT_ASSERT_EQ(test, test_params_write(t, 1, EM7180_WS_NUM_PARAMS,
 							vals), 0);
 		KUNIT_EXPECT_LE(test, emu->transactions,
-				2 * EM7180_WS_NUM_PARAMS + 4);
+				2 * EM7180_WS_NUM_PARAMS + 5);
 	}
 	KUNIT_EXPECT_GE(test, t->data.ack_good_us, 1U);
 }
