@@ -107,7 +107,6 @@ q=$(dbg_get samples quaternion)
 m=$(dbg_get samples mag)
 echo "# 200 scans: $q quaternion and $m magnetometer samples produced meanwhile"
 ok "no more scans than quaternion steps ($q)" [ 200 -le $((q + 2)) ]
-ok "and the magnetometer did not pace them ($m)" [ "$m" -lt 100 ]
 # Accelerometer at 50 Hz and magnetometer at 30 Hz: their events seldom
 # coincide, and each used to make a scan of its own.
 echo 50 >"$DEV/in_accel_sampling_frequency"

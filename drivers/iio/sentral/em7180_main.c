@@ -314,6 +314,18 @@ static int em7180_accel_offset_fetch(struct em7180_data *data)
 	return ret;
 }
 
+/*
+ * After a transfer that failed with @err the chip may hold other offsets:
+ * read them back, unless the firmware did not answer at all, when another
+ * transfer would only wait for another timeout.
+ */
+static void em7180_accel_offset_refresh(struct em7180_data *data, int err)
+{
+	data->accel_offset_valid = false;
+	if (err != -ETIMEDOUT)
+		em7180_accel_offset_fetch(data);
+}
+
 /* Keep the copy in step with a warm start read from or written to the chip */
 static void em7180_accel_offset_set(struct em7180_data *data, const u32 *ws)
 {
@@ -377,12 +389,10 @@ int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
 
 	mutex_lock(&data->lock);
 	ret = em7180_params_write(data, param, 1, &bits);
-	if (!ret && data->accel_offset_valid) {
+	if (!ret && data->accel_offset_valid)
 		data->accel_offset[axis] = bits;
-	} else {
-		data->accel_offset_valid = false;
-		em7180_accel_offset_fetch(data);
-	}
+	else
+		em7180_accel_offset_refresh(data, ret);
 	/* Keep the copy re-applied after a power loss in step */
 	if (!ret && data->ws_valid)
 		put_unaligned_le32(bits, &data->ws[(param - EM7180_WS_FIRST_PARAM) * 4]);
@@ -840,7 +850,7 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 		em7180_accel_offset_set(data, vals);
 	} else {
 		/* Some parameters may have been written before the error */
-		em7180_accel_offset_fetch(data);
+		em7180_accel_offset_refresh(data, ret);
 	}
 	mutex_unlock(&data->lock);
 
