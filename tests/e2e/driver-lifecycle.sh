@@ -14,12 +14,6 @@
 
 CHANNELS="rot_quaternion accel_x accel_y accel_z anglvel_x anglvel_y anglvel_z timestamp"
 CYCLES=50
-# UML 6.1 can stall for many minutes after enough module loads: freeing a
-# module's init section flushes the kernel TLB over every lazily freed
-# vmalloc range, and its flush issues one host munmap per absent page
-# (do_free_init -> __purge_vmap_area_lazy -> flush_tlb_kernel_range_common).
-# Fewer cycles keep 6.1 under that; 6.12 runs all 50.
-[ "$SENTRAL_KVER" = 6.1 ] && CYCLES=20
 # kmalloc snapshots at a fifth, three fifths and the end: a leak of one
 # object per cycle grows a cache by STRETCH in both stretches.
 FIRST=$((CYCLES / 5)) MIDDLE=$((CYCLES * 3 / 5)) STRETCH=$((CYCLES * 2 / 5))
