@@ -4,6 +4,7 @@
 #
 #   make              build the driver against KDIR and the tool
 #   make check        run every test on the simulated chip (every kernel)
+#   make check-long   the suites too long for make check (tests/long-suites)
 #   make demo         the whole story on the simulated chip
 #   make bench        measure bus use, timing and streaming on the simulated chip
 #   make fuzz         fuzz the tool's file parser and command line (long run)
@@ -49,6 +50,9 @@ kunit: prepare
 check: uml tool
 	VERSIONS="$(VERSIONS)" tests/run-suites
 
+check-long: uml tool
+	VERSIONS="$(VERSIONS)" LONG=1 tests/run-suites
+
 # The demo boots the primary kernel only.
 demo: VERSIONS = 6.12
 demo: uml tool
@@ -91,5 +95,5 @@ clean:
 distclean: clean
 	rm -rf build
 
-.PHONY: all modules modules_install tool prepare uml kunit check demo bench fuzz cross upstream \
-	overlay install clean distclean
+.PHONY: all modules modules_install tool prepare uml kunit check check-long demo bench fuzz \
+	cross upstream overlay install clean distclean
