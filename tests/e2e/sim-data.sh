@@ -5,7 +5,7 @@
 # Sensor data of the simulated EM7180: accel gravity + bias and the seed's
 # Table 1 offsets, gyro bias + noise, mag field, quaternion, timestamps
 # counting samples, EventStatus bits for enabled events, sample accounting
-# (read, missed, gaps).
+# (read, missed, gaps, and whose loss a lost sample is).
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/sim/testlib.sh"
 
@@ -146,5 +146,26 @@ sleep 0.05
 ok "stop" sim_wr 0x34 0x00
 is "one edge per EventStatus read followed by a sample" \
 	"$(dbg_get state irqs)" $((irq0 + 7))
+
+# Whose loss a sample is: lost after the host read a data event from
+# EventStatus (seen: the driver's doing) or before (unseen: its interrupt
+# was not served in time). One EventStatus read, then two more samples.
+accel_at_least() { [ "$(dbg_get samples accel)" -ge "$1" ]; }
+ok "accel 10 Hz" sim_wr 0x56 0x01
+knob samples 0
+ok "run" sim_wr 0x34 0x01
+ok "a first sample" wait_for 2 accel_at_least 1
+ok "its EventStatus" sim_rd 0x35
+ok "read it" sim_rd 0x1a 8
+n=$(dbg_get samples accel)
+ok "a second sample" wait_for 2 accel_at_least $((n + 1))
+is "EventStatus reports it" "$(sim_rd 0x35)" 0x10
+ok "two more samples, no read" wait_for 2 accel_at_least $((n + 3))
+ok "stop" sim_wr 0x34 0x00
+ok "read the accel block" sim_rd 0x1a 8
+seen=$(dbg_get samples accel_drops_seen) unseen=$(dbg_get samples accel_drops_unseen)
+is "one sample lost after a data-ready was seen" "$seen" 1
+ok "the later ones lost unseen ($unseen)" [ "$unseen" -ge 1 ]
+is "seen + unseen = gaps" $((seen + unseen)) "$(dbg_get samples accel_gaps)"
 ok "unload" sim_unload
 done_testing

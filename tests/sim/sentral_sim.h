@@ -113,6 +113,9 @@ struct sim_stream {
 	u64 gaps;		/* samples skipped between two reads */
 	u64 held_unread;	/* of the misses since the last read, by a held timer */
 	u64 gaps_held;		/* gaps whose sample a held timer replaced */
+	u64 drdy_mark;		/* sim->drdy_seen when the latest sample came */
+	u64 drops_seen;		/* lost after the host saw a data-ready */
+	u64 drops_unseen;	/* lost before the host saw any */
 };
 
 struct sim_stats {
@@ -158,6 +161,7 @@ struct sentral_sim {
 	DECLARE_BITMAP(cal_seen, SIM_REGIONS);
 	u8 cal_flags;			/* latched 0x44 bits */
 	u8 event_status;
+	u64 drdy_seen;		/* EventStatus reads that reported new data */
 	u32 noise_state;
 
 	/* Sample production */

@@ -475,7 +475,18 @@ static void sim_produce(struct sentral_sim *sim, enum sim_stream_id id,
 		st->missed++;
 		if (held)
 			st->held_unread++;
+		/*
+		 * A host streaming this sensor loses the sample. If it read
+		 * a data-ready from EventStatus since the sample came, it saw
+		 * the data and did not read it in time; if not, its
+		 * interrupt was not even served within a period.
+		 */
+		if (st->read_seq && sim->drdy_seen != st->drdy_mark)
+			st->drops_seen++;
+		else if (st->read_seq)
+			st->drops_unseen++;
 	}
+	st->drdy_mark = sim->drdy_seen;
 	st->unread = true;
 	st->produced++;
 	/* EventStatus reports the data events the host enabled */
@@ -726,10 +737,13 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 		return sim->regs[reg];
 	case SIM_REG_EVENT_STATUS:
 		v = sim->event_status;
-		if (!peek) {
-			sim->event_status = 0;	/* clear-on-read, §1 */
-			sim->int_latched = false;
-		}
+		if (peek)
+			return v;
+		sim->event_status = 0;	/* clear-on-read, §1 */
+		sim->int_latched = false;
+		if (v & (SIM_EV_QUATERNION | SIM_EV_MAG | SIM_EV_ACCEL |
+			 SIM_EV_GYRO))
+			sim->drdy_seen++;
 		return v;
 	case SIM_REG_SENTRAL_STATUS:
 		if (up)
