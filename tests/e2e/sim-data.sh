@@ -167,5 +167,7 @@ seen=$(dbg_get samples accel_drops_seen) unseen=$(dbg_get samples accel_drops_un
 is "one sample lost after a data-ready was seen" "$seen" 1
 ok "the later ones lost unseen ($unseen)" [ "$unseen" -ge 1 ]
 is "seen + unseen = gaps" $((seen + unseen)) "$(dbg_get samples accel_gaps)"
+ok "drops_seen_held, those a late timer made, are part of drops_seen" \
+	[ "$(dbg_get samples accel_drops_seen_held)" -le "$seen" ]
 ok "unload" sim_unload
 done_testing

@@ -115,6 +115,7 @@ struct sim_stream {
 	u64 gaps_held;		/* gaps whose sample a held timer replaced */
 	u64 drdy_mark;		/* sim->drdy_seen when the latest sample came */
 	u64 drops_seen;		/* lost after the host saw a data-ready */
+	u64 drops_seen_held;	/* of those, replaced by a held timer */
 	u64 drops_unseen;	/* lost before the host saw any */
 };
 

@@ -445,6 +445,8 @@ static void samples_show(struct seq_file *m, struct sentral_sim *sim,
 		seq_printf(m, "%s_gaps %llu\n", name, st->gaps);
 		seq_printf(m, "%s_gaps_held %llu\n", name, st->gaps_held);
 		seq_printf(m, "%s_drops_seen %llu\n", name, st->drops_seen);
+		seq_printf(m, "%s_drops_seen_held %llu\n", name,
+			   st->drops_seen_held);
 		seq_printf(m, "%s_drops_unseen %llu\n", name, st->drops_unseen);
 	}
 	seq_printf(m, "timer_late %llu\n", sim->timer_late);
@@ -465,6 +467,7 @@ static int samples_store(struct sentral_sim *sim, char *buf, ktime_t now)
 		sim->stream[id].held_unread = 0;
 		sim->stream[id].gaps_held = 0;
 		sim->stream[id].drops_seen = 0;
+		sim->stream[id].drops_seen_held = 0;
 		sim->stream[id].drops_unseen = 0;
 		sim->stream[id].unread = false;
 	}

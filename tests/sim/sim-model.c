@@ -478,13 +478,17 @@ static void sim_produce(struct sentral_sim *sim, enum sim_stream_id id,
 		/*
 		 * A host streaming this sensor loses the sample. If it read
 		 * a data-ready from EventStatus since the sample came, it saw
-		 * the data and did not read it in time; if not, its
+		 * the data and did not read it in time (unless this timer
+		 * was held up: the machine stalled in between); if not, its
 		 * interrupt was not even served within a period.
 		 */
-		if (st->read_seq && sim->drdy_seen != st->drdy_mark)
+		if (st->read_seq && sim->drdy_seen != st->drdy_mark) {
 			st->drops_seen++;
-		else if (st->read_seq)
+			if (held)
+				st->drops_seen_held++;
+		} else if (st->read_seq) {
 			st->drops_unseen++;
+		}
 	}
 	st->drdy_mark = sim->drdy_seen;
 	st->unread = true;
