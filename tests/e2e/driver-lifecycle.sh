@@ -123,8 +123,10 @@ is "buffer disabled on the new device" "$(cat "$DEV/buffer/enable")" 0
 
 # -- Unbind during a calibration_data transfer --------------------------------------
 ok "save a reference blob" dd if="$DEV/calibration_data" of="$T/ref" bs=4096 status=none
-# 20 ms per acknowledge: a transfer of 35 parameters takes 0.7 s.
-knob ack_latency_us 20000
+# 100 ms per acknowledge: a transfer of 35 parameters takes 3.5 s, long
+# enough for the check below to see it begin on a loaded machine (with 20 ms
+# it missed the 0.7 s window in 1 of 10 runs on UML 6.1 at a host load of 12).
+knob ack_latency_us 100000
 
 # unbind_during WHAT CMD...: start CMD, unbind once the chip is in transfer
 # mode, and check what is left; then bind again (answering parameter
