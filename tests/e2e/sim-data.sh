@@ -125,7 +125,7 @@ ok "gaps_held, those a late timer made, are part of the gaps" \
 	[ "$(dbg_get samples accel_gaps_held)" -le "$(dbg_get samples accel_gaps)" ]
 
 # INT pin: high while an enabled event is pending, cleared by reading
-# EventStatus; the irq_sim line gets one rising edge per low-to-high change.
+# EventStatus; the interrupt line gets one rising edge per low-to-high change.
 ok "accel 100 Hz, EnableEvents accel" sim_wr 0x56 0x0a 0x0a
 ok "EnableEvents accel" sim_wr 0x33 0x10
 ok "clear EventStatus" sim_rd 0x35

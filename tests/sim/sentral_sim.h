@@ -11,6 +11,7 @@
 
 #include <linux/hrtimer.h>
 #include <linux/i2c.h>
+#include <linux/irq_work.h>
 #include <linux/ktime.h>
 #include <linux/spinlock.h>
 #include <linux/types.h>
@@ -178,6 +179,8 @@ struct sentral_sim {
 	bool int_latched;	/* high until EventStatus is read */
 	u64 irqs;
 	unsigned int virq;
+	bool irq_masked;		/* set by the irq_chip, under its lock */
+	struct irq_work irq_work;	/* delivery when unmasked, resent */
 
 	/* Bus */
 	u8 pointer;

@@ -5,9 +5,9 @@
  * without hardware.
  *
  * The adapter "sentral-sim" answers at 0x28 only (EM7180 register reference
- * §1). One "em7180" client with a data-ready interrupt from an irq_sim
- * domain is created at load unless create=0. Knobs and statistics live in
- * debugfs under sentral-sim/; see tests/sim/README.md.
+ * §1). One "em7180" client with a data-ready interrupt from an interrupt
+ * domain of the simulator's own is created at load unless create=0. Knobs
+ * and statistics live in debugfs under sentral-sim/; see tests/sim/README.md.
  *
  * For tests of several chips, adapters=N adds adapters "sentral-sim-1"...
  * with a chip each, and mux_channels=N one more adapter "sentral-sim-mux"
@@ -19,8 +19,6 @@
 #include <linux/i2c-mux.h>
 #include <linux/interrupt.h>
 #include <linux/irq.h>
-#include <linux/irq_sim.h>
-#include <linux/irq_work.h>
 #include <linux/irqdomain.h>
 #include <linux/module.h>
 #include <linux/platform_device.h>
@@ -72,22 +70,88 @@ static u64 sim_msg_bits(u16 len)
 	return 1 + 9 * ((u64)len + 1);
 }
 
+/*
+ * The INT pin's interrupt: a one-line domain with a chip of the simulator's
+ * own (irq_sim is not built into stock distribution kernels). A rising edge
+ * is delivered at once, synchronously, in the context that raised it (the
+ * data timer or a bus transaction). An edge while the line is masked (no
+ * handler, or the core masked it) is not lost: a line still high when it is
+ * unmasked fires then, as a latched edge or a level input would.
+ */
 void sim_fire_irq(struct sentral_sim *sim)
 {
-	unsigned long flags;
-
-	/*
-	 * irq_sim raises the line only if a handler has it unmasked, and
-	 * delivers it from an irq_work. UML has no irq_work interrupt: queued
-	 * work waits for the next tick (HZ=100), which would cap the data-ready
-	 * rate at 100/s. Run it now, as irq_work_run() requires, with local
-	 * interrupts off; on other architectures this only runs it earlier.
-	 */
-	local_irq_save(flags);
-	irq_set_irqchip_state(sim->virq, IRQCHIP_STATE_PENDING, true);
-	irq_work_run();
-	local_irq_restore(flags);
+	if (!READ_ONCE(sim->irq_masked))
+		generic_handle_irq_safe(sim->virq);
 }
+
+/* Deferred delivery: the chip callbacks run under the descriptor's lock */
+static void sim_irq_work_fn(struct irq_work *work)
+{
+	struct sentral_sim *sim = container_of(work, struct sentral_sim,
+					       irq_work);
+
+	generic_handle_irq_safe(sim->virq);
+}
+
+static void sim_irq_mask(struct irq_data *d)
+{
+	struct sentral_sim *sim = irq_data_get_irq_chip_data(d);
+
+	WRITE_ONCE(sim->irq_masked, true);
+}
+
+static void sim_irq_unmask(struct irq_data *d)
+{
+	struct sentral_sim *sim = irq_data_get_irq_chip_data(d);
+
+	WRITE_ONCE(sim->irq_masked, false);
+	if (READ_ONCE(sim->int_high))
+		irq_work_queue(&sim->irq_work);
+}
+
+/* The core resends an edge that arrived while the line was disabled */
+static int sim_irq_retrigger(struct irq_data *d)
+{
+	struct sentral_sim *sim = irq_data_get_irq_chip_data(d);
+
+	irq_work_queue(&sim->irq_work);
+	return 1;
+}
+
+/* The INT pin is active high; hosts trigger on the rising edge (§3) */
+static int sim_irq_set_type(struct irq_data *d, unsigned int type)
+{
+	return type == IRQ_TYPE_EDGE_RISING ? 0 : -EINVAL;
+}
+
+static struct irq_chip sim_irq_chip = {
+	.name = "sentral-sim",
+	.irq_mask = sim_irq_mask,
+	.irq_unmask = sim_irq_unmask,
+	.irq_retrigger = sim_irq_retrigger,
+	.irq_set_type = sim_irq_set_type,
+	.flags = IRQCHIP_SKIP_SET_WAKE,
+};
+
+static int sim_irq_map(struct irq_domain *domain, unsigned int virq,
+		       irq_hw_number_t hwirq)
+{
+	irq_set_chip_data(virq, domain->host_data);
+	irq_set_chip_and_handler(virq, &sim_irq_chip, handle_simple_irq);
+	irq_modify_status(virq, IRQ_NOREQUEST | IRQ_NOAUTOEN, IRQ_NOPROBE);
+	return 0;
+}
+
+static void sim_irq_unmap(struct irq_domain *domain, unsigned int virq)
+{
+	irq_set_chip_and_handler(virq, NULL, NULL);
+	irq_set_chip_data(virq, NULL);
+}
+
+static const struct irq_domain_ops sim_irq_domain_ops = {
+	.map = sim_irq_map,
+	.unmap = sim_irq_unmap,
+};
 
 static void sim_msg_read(struct sentral_sim *sim, struct i2c_msg *msg,
 			 ktime_t now)
@@ -190,13 +254,18 @@ static int sim_irq_init(struct sentral_sim *sim)
 {
 	int ret;
 
+	/* until a handler is requested, the line is masked */
+	sim->irq_masked = true;
+	init_irq_work(&sim->irq_work, sim_irq_work_fn);
+
 	sim->fwnode = irq_domain_alloc_named_fwnode("sentral-sim");
 	if (!sim->fwnode)
 		return -ENOMEM;
 
-	sim->domain = irq_domain_create_sim(sim->fwnode, 1);
-	if (IS_ERR(sim->domain)) {
-		ret = PTR_ERR(sim->domain);
+	sim->domain = irq_domain_create_linear(sim->fwnode, 1,
+					       &sim_irq_domain_ops, sim);
+	if (!sim->domain) {
+		ret = -ENOMEM;
 		goto err_fwnode;
 	}
 
@@ -205,7 +274,6 @@ static int sim_irq_init(struct sentral_sim *sim)
 		ret = -ENXIO;
 		goto err_domain;
 	}
-	/* the INT pin is active high; hosts trigger on the rising edge (§3) */
 	ret = irq_set_irq_type(sim->virq, IRQ_TYPE_EDGE_RISING);
 	if (ret)
 		goto err_mapping;
@@ -214,7 +282,7 @@ static int sim_irq_init(struct sentral_sim *sim)
 err_mapping:
 	irq_dispose_mapping(sim->virq);
 err_domain:
-	irq_domain_remove_sim(sim->domain);
+	irq_domain_remove(sim->domain);
 err_fwnode:
 	irq_domain_free_fwnode(sim->fwnode);
 	return ret;
@@ -222,8 +290,9 @@ err_fwnode:
 
 static void sim_irq_exit(struct sentral_sim *sim)
 {
+	irq_work_sync(&sim->irq_work);
 	irq_dispose_mapping(sim->virq);
-	irq_domain_remove_sim(sim->domain);
+	irq_domain_remove(sim->domain);
 	irq_domain_free_fwnode(sim->fwnode);
 }
 

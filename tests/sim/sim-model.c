@@ -619,8 +619,8 @@ static enum hrtimer_restart sim_timer_fn(struct hrtimer *timer)
 
 /*
  * The INT pin is high while an enabled event is pending and drops when
- * EventStatus is read (§3 item 7). The irq_sim line is edge-triggered, so
- * an interrupt is raised on each low-to-high transition only.
+ * EventStatus is read (§3 item 7). The interrupt is edge-triggered, so it
+ * is raised on each low-to-high transition only.
  */
 bool sim_int_update(struct sentral_sim *sim)
 {
@@ -628,7 +628,7 @@ bool sim_int_update(struct sentral_sim *sim)
 		    sim->int_latched;
 	bool rising = high && !sim->int_high;
 
-	sim->int_high = high;
+	WRITE_ONCE(sim->int_high, high);
 	if (rising)
 		sim->irqs++;
 	return rising;
@@ -657,7 +657,7 @@ void sim_power_on(struct sentral_sim *sim, ktime_t now)
 	/* a reset raises CPUReset whatever EnableEvents says (§3 item 2) */
 	sim->event_status = SIM_EV_CPU_RESET;
 	sim->noise_state = 1;
-	sim->int_high = false;
+	WRITE_ONCE(sim->int_high, false);
 	sim->int_latched = false;
 	sim->nack_until = ktime_add_ms(now, sim->nack_after_reset_ms);
 
@@ -898,5 +898,5 @@ void sim_int_stuck(struct sentral_sim *sim)
 	sim->event_status |= SIM_EV_QUATERNION | SIM_EV_MAG | SIM_EV_ACCEL |
 			     SIM_EV_GYRO;
 	sim->int_latched = true;
-	sim->int_high = true;
+	WRITE_ONCE(sim->int_high, true);
 }
