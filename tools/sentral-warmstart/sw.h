@@ -12,8 +12,6 @@
 #include <stdio.h>
 #include <sysexits.h>
 
-#define SW_VERSION "1.0.0"
-
 /*
  * Exit codes, documented in sentral-warmstart.8 and --help. They come from
  * sysexits.h so that systemd names them right ("65/DATAERR"); its names
