@@ -14,6 +14,8 @@
 #   make overlay      build the Raspberry Pi devicetree overlay
 #   make install      install the modules, the tool, its udev rule and unit,
 #                     and the overlay
+#   make deb          Debian packages sentral-warmstart and em7180-dkms in build/deb/
+#   make system-check install the packages in a Debian image, boot it under QEMU
 
 KDIR     ?= /lib/modules/$(shell uname -r)/build
 # Test kernels: each version, and 6.12 with the sanitisers (tests/uml/config-san)
@@ -83,6 +85,20 @@ upstream:
 overlay:
 	$(MAKE) -C boards/raspberrypi
 
+# Built from a copy of the source files (tracked or new, not ignored), so
+# that the checkout stays clean; lintian must find nothing to warn about.
+deb:
+	tests/system/prepare --deb
+	rm -rf build/deb && mkdir -p build/deb/src
+	git ls-files -z --cached --others --exclude-standard | \
+		tar -c --null -T - --ignore-failed-read | tar -x -C build/deb/src
+	cd build/deb/src && dpkg-buildpackage -us -uc -b
+	lintian --fail-on error,warning build/deb/*.changes
+
+# The packages installed and booted with systemd on Debian's stock kernels.
+system-check: deb
+	tests/system/run
+
 install: modules_install
 	$(MAKE) -C $(TOOL) install
 	$(MAKE) -C boards/raspberrypi install
@@ -96,4 +112,4 @@ distclean: clean
 	rm -rf build
 
 .PHONY: all modules modules_install tool prepare uml kunit check check-long demo bench fuzz \
-	cross upstream overlay install clean distclean
+	cross upstream overlay deb system-check install clean distclean
