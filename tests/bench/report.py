@@ -7,6 +7,7 @@ usage: report.py RAW JSON
        report.py --plan RATE...   (the stream to run per channel set)
 """
 import json
+import os
 import sys
 
 # One bit at 400 kHz, and a message's bits as the simulator counts them
@@ -261,6 +262,14 @@ def main():
             res["boot_restore.%s_ms" % part])
     res["uml_exec_ms"] = m["uml_exec_us"] / 1000
     row("uml_exec_ms (one fork + exec of /bin/true)", res["uml_exec_ms"])
+
+    # The system suite's figures (tests/system/run, QEMU), from its last run.
+    system = os.path.join(os.path.dirname(out), "system.json")
+    if os.path.exists(system):
+        with open(system) as f:
+            for key, value in sorted(json.load(f).items()):
+                res[key] = value
+                row(key + " (system suite, last run)", value)
 
     with open(out, "w") as f:
         json.dump(res, f, indent=2, sort_keys=True)
