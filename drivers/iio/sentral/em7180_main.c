@@ -19,6 +19,7 @@
 #include <linux/interrupt.h>
 #include <linux/iopoll.h>
 #include <linux/kernel.h>
+#include <linux/minmax.h>
 #include <linux/module.h>
 #include <linux/mutex.h>
 #include <linux/pm.h>
@@ -1457,7 +1458,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	data = iio_priv(indio_dev);
 	data->dev = dev;
 	data->regmap = regmap;
-	data->irq = irq > 0 ? irq : 0;
+	data->irq = max(irq, 0);
 	mutex_init(&data->lock);
 	em7180_param_init(data);
 	dev_set_drvdata(dev, indio_dev);
