@@ -1,0 +1,35 @@
+# SPDX-License-Identifier: GPL-2.0-only
+# shellcheck shell=bash
+#
+# What the kernel-side suites keep between checkouts.  build/ is thrown
+# away with the checkout; what is costly to derive and depends only on
+# inputs that rarely change lives in the user's cache directory instead,
+# under a name carrying a hash of those inputs, so that a stale entry is
+# never used and a missing one is made again.  Needs $root, the checkout.
+
+SENTRAL_CACHE=${XDG_CACHE_HOME:-$HOME/.cache}/sentral
+
+# cache_key INPUT...: 16 hex digits hashing each INPUT, a file's content or
+# else the string itself (a version, a path, a command line).
+cache_key() {
+	local i
+	for i in "$@"; do
+		if [ -f "$i" ]; then
+			printf 'file %s\n' "$(sha256sum <"$i" | cut -c1-64)"
+		else
+			printf 'string %s\n' "$i"
+		fi
+	done | sha256sum | cut -c1-16
+}
+
+# use_ccache: set CCACHE to "ccache " when ccache is installed (else
+# empty), to prefix the compilers given to make, and make the paths it
+# hashes relative to the checkout, so that a fresh clone hits.  Debug
+# information may name another clone's directory: these builds are
+# checked, never run.
+use_ccache() {
+	CCACHE=
+	command -v ccache >/dev/null 2>&1 || return 0
+	CCACHE="ccache "
+	export CCACHE_BASEDIR=$root CCACHE_NOHASHDIR=1
+}
