@@ -33,3 +33,15 @@ use_ccache() {
 	CCACHE="ccache "
 	export CCACHE_BASEDIR=$root CCACHE_NOHASHDIR=1
 }
+
+# tree_key TREE: 16 hex digits identifying a kernel source tree extracted
+# by tests/kernel/prepare: the content of its Kconfig files and makefiles
+# (prepare edits some), the path, size and time of every other file (tar
+# keeps the times, so another extraction of the same tarball matches).
+tree_key() {
+	local build=( \( -name 'Kconfig*' -o -name 'Makefile*' -o -name Kbuild \) )
+	(cd "$1" && {
+		find . -type f "${build[@]}" -print0 | sort -z | xargs -0 sha256sum
+		find . -type f ! "${build[@]}" -printf '%P %s %T@\n' | sort
+	}) | sha256sum | cut -c1-16
+}
