@@ -32,6 +32,17 @@ struct sw_backend_ops {
 				struct sw_err *e);
 	int (*accel_offset_set)(struct sw_backend *b, const int lsb[3],
 				struct sw_err *e);
+	/*
+	 * Watching, NULL where nothing can wake the tool (i2c-dev): begin
+	 * asks the driver to report changes of the calibration state; wait
+	 * sleeps until it reports one (*changed = true), timeout_ms passes
+	 * (-1: no limit) or SIGINT, SIGTERM or SIGHUP arrives
+	 * (sw_signal_pending()); end stops the reports.
+	 */
+	int (*watch_begin)(struct sw_backend *b, struct sw_err *e);
+	int (*watch_wait)(struct sw_backend *b, int timeout_ms, bool *changed,
+			  struct sw_err *e);
+	void (*watch_end)(struct sw_backend *b);
 	void (*close)(struct sw_backend *b);
 };
 

@@ -54,6 +54,8 @@ struct i2c_be {
 	unsigned int addr;
 	/* Acknowledge latency seen so far: the first poll waits about that. */
 	long ack_us;
+	/* 0x44 clears when read: the updates this process has seen */
+	uint64_t gyro_updates, mag_updates;
 };
 
 static uint64_t now_us(void)
@@ -299,8 +301,10 @@ static int i2c_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 		return bus_err(ib, "reading", REG_CAL_SCORE, e);
 	cs->status = st[0] & 3;
 	cs->mag_transient = (st[0] >> 2) & 3;
-	cs->mag_cal_update = st[1] & 1;
-	cs->gyro_bias_update = (st[1] >> 1) & 1;
+	ib->mag_updates += st[1] & 1;
+	ib->gyro_updates += (st[1] >> 1) & 1;
+	cs->mag_cal_updates = ib->mag_updates;
+	cs->gyro_bias_updates = ib->gyro_updates;
 	cs->score_raw = sw_get_le16(sc);
 	return SW_EXIT_OK;
 }

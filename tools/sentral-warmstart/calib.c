@@ -136,15 +136,21 @@ static int wait_gyro_bias(struct sw_backend *b, struct cal_run *r,
 			  struct sw_err *e)
 {
 	struct sw_env *env = r->env;
+	uint64_t before = 0;
+	bool first = true;
 	int ret;
 
 	sw_note(env, "Step 1/2: keep the device still while the gyro bias is learned...");
+	/* An update counted before the first look may be from any time. */
 	for (;;) {
 		ret = b->ops->cal_state(b, &r->cs, e);
 		if (ret)
 			return ret;
-		if (r->cs.gyro_bias_update)
+		if (first)
+			before = r->cs.gyro_bias_updates;
+		else if (r->cs.gyro_bias_updates != before)
 			break;
+		first = false;
 		if (env->now_ms(env->clk) >= r->deadline)
 			return sw_err_set(e, SW_EXIT_CAL,
 					  "gyro bias not learned within %u s: keep the device still and retry",

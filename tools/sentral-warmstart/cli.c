@@ -27,6 +27,8 @@ enum {
 	OPT_TIMEOUT,
 	OPT_SAMPLES,
 	OPT_UDEV,
+	OPT_INTERVAL,
+	OPT_MARGIN,
 };
 
 static const struct option long_opts[] = {
@@ -43,6 +45,8 @@ static const struct option long_opts[] = {
 	{ "timeout", required_argument, NULL, OPT_TIMEOUT },
 	{ "samples", required_argument, NULL, OPT_SAMPLES },
 	{ "udev", no_argument, NULL, OPT_UDEV },
+	{ "interval", required_argument, NULL, OPT_INTERVAL },
+	{ "margin", required_argument, NULL, OPT_MARGIN },
 	{ "help", no_argument, NULL, OPT_HELP },
 	{ "version", no_argument, NULL, OPT_VERSION },
 	{ NULL, 0, NULL, 0 },
@@ -59,6 +63,7 @@ static const struct {
 	{ "accel-cal", SW_CMD_ACCEL_CAL },
 	{ "show", SW_CMD_SHOW },
 	{ "key", SW_CMD_KEY },
+	{ "watch", SW_CMD_WATCH },
 };
 
 void sw_usage(FILE *f)
@@ -80,6 +85,9 @@ void sw_usage(FILE *f)
 	      "  accel-cal [--samples N]         one-point accelerometer calibration (Z down)\n"
 	      "  show FILE                       decode and check a saved file\n"
 	      "  key [--udev]                    print the chip's key (names its file and units)\n"
+	      "  watch [--interval SEC] [--margin M] [--max-score S] [--file F]\n"
+	      "                                  stay running and save whenever the calibration\n"
+	      "                                  becomes good enough and better than the saved one\n"
 	      "\n"
 	      "Options:\n"
 	      "  -d, --device NAME     em7180 IIO device: iio:deviceN, label, I2C client name\n"
@@ -98,6 +106,9 @@ void sw_usage(FILE *f)
 	      "      --target-score S  calibrate: stop at this score (default 3.0)\n"
 	      "      --timeout SEC     calibrate: give up after SEC seconds (default 120)\n"
 	      "      --samples N       accel-cal: samples to average (default 64)\n"
+	      "      --interval SEC    watch: at most one write every SEC seconds (default 300)\n"
+	      "      --margin M        watch: replace a good saved calibration only with a\n"
+	      "                        score at least M points lower (default 0.5)\n"
 	      "  -h, --help            this help\n"
 	      "  -V, --version         print the version\n"
 	      "\n"
@@ -204,9 +215,13 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 		{ OPT_UDEV, "--udev", 1u << SW_CMD_KEY },
 		{ OPT_FILE, "--file", 1u << SW_CMD_SAVE | 1u << SW_CMD_RESTORE |
 					1u << SW_CMD_CALIBRATE |
-					1u << SW_CMD_STATUS },
+					1u << SW_CMD_STATUS |
+					1u << SW_CMD_WATCH },
 		{ OPT_MAX_SCORE, "--max-score", 1u << SW_CMD_SAVE |
-						  1u << SW_CMD_CALIBRATE },
+						  1u << SW_CMD_CALIBRATE |
+						  1u << SW_CMD_WATCH },
+		{ OPT_INTERVAL, "--interval", 1u << SW_CMD_WATCH },
+		{ OPT_MARGIN, "--margin", 1u << SW_CMD_WATCH },
 		{ OPT_TARGET_SCORE, "--target-score", 1u << SW_CMD_CALIBRATE },
 		{ OPT_TIMEOUT, "--timeout", 1u << SW_CMD_CALIBRATE },
 		{ OPT_SAMPLES, "--samples", 1u << SW_CMD_ACCEL_CAL },
@@ -255,7 +270,7 @@ static int operand(const char *arg, struct sw_opts *o, const char **show_file,
 
 int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 {
-	bool seen[OPT_UDEV + 1] = { false };
+	bool seen[OPT_MARGIN + 1] = { false };
 	const char *show_file = NULL;
 	int c, next, ret;
 
@@ -266,6 +281,8 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 	o->target_score = SW_DEFAULT_TARGET_SCORE;
 	o->timeout_s = 120;
 	o->samples = 64;
+	o->interval_s = SW_DEFAULT_INTERVAL_S;
+	o->margin = SW_DEFAULT_MARGIN;
 
 	/* Re-initialise getopt: the parser may run more than once (tests). */
 	optind = 0;
@@ -299,7 +316,7 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 				return ret;
 			continue;
 		}
-		if (c > 0 && c <= OPT_UDEV)
+		if (c > 0 && c <= OPT_MARGIN)
 			seen[c] = true;
 		ret = SW_EXIT_OK;
 		switch (c) {
@@ -347,6 +364,14 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 			ret = parse_uint("--samples", optarg, 1, 10000,
 					 &o->samples, e);
 			break;
+		case OPT_INTERVAL:
+			ret = parse_uint("--interval", optarg, 1, 86400,
+					 &o->interval_s, e);
+			break;
+		case OPT_MARGIN:
+			ret = parse_double("--margin", optarg, 0, 100,
+					   &o->margin, e);
+			break;
 		case OPT_HELP:
 			o->help = true;
 			break;
@@ -381,6 +406,9 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 	}
 	if (!*o->state_dir)
 		return sw_err_set(e, SW_EXIT_USAGE, "--state-dir is empty");
+	if (o->cmd == SW_CMD_WATCH && o->i2c_dev)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "watch needs the em7180 driver: over --i2c nothing would wake it but polling the bus");
 	if (o->udev && o->i2c_dev)
 		return sw_err_set(e, SW_EXIT_USAGE,
 				  "key --udev names an IIO device, not an --i2c one");

@@ -16,6 +16,7 @@ enum sw_command {
 	SW_CMD_ACCEL_CAL,
 	SW_CMD_SHOW,
 	SW_CMD_KEY,
+	SW_CMD_WATCH,
 };
 
 struct sw_opts {
@@ -33,6 +34,10 @@ struct sw_opts {
 	double target_score;	/* --target-score, percent */
 	unsigned int timeout_s;	/* --timeout */
 	unsigned int samples;	/* --samples */
+	unsigned int interval_s; /* watch --interval: seconds between writes */
+	double margin;		/* watch --margin: improvement, percent points */
+	/* set by watch: a good saved file is replaced only by margin better */
+	bool improve_only;
 	bool help;
 	bool version;
 };

@@ -215,23 +215,69 @@ static void migrate_legacy(const struct sw_backend *b, const struct sw_opts *o,
 	}
 }
 
+/*
+ * The policy's answer for a calibration state, against the file at path
+ * it would replace. chip receives the chip's identity, oldwhy why an
+ * existing file is unusable ("" when it is fine or missing).
+ */
+static int policy_for(struct sw_backend *b, const struct sw_opts *o,
+		      const struct sw_cal_state *cs, struct sw_chip_info *chip,
+		      const char *path, bool *yes, char *why, size_t why_len,
+		      char *oldwhy, size_t oldwhy_len, struct sw_err *e)
+{
+	struct sw_policy_in pin = { 0 };
+	struct sw_err lerr;
+	struct sw_file old;
+	int ret;
+
+	ret = b->ops->chip_info(b, chip, e);
+	if (ret)
+		return ret;
+	sw_err_clear(&lerr);
+	memset(&old, 0, sizeof(old));
+	ret = load_existing(o, path, chip, &old, &pin.have_old, oldwhy,
+			    oldwhy_len, NULL, &lerr);
+	/* A missing state directory is created by the write. */
+	if (ret && ret != SW_EXIT_STATEDIR)
+		return sw_err_set(e, ret, "%s", lerr.msg);
+
+	pin.status = cs->status;
+	pin.score_raw = cs->score_raw;
+	pin.max_score = o->max_score;
+	pin.old_status = old.cal_status;
+	pin.old_score_raw = old.score_raw;
+	pin.force = o->force;
+	pin.improve_only = o->improve_only;
+	pin.margin = o->margin;
+	*yes = sw_policy_save(&pin, why, why_len);
+	return SW_EXIT_OK;
+}
+
+int sw_save_wanted(struct sw_backend *b, const struct sw_opts *o,
+		   const struct sw_cal_state *cs, bool *yes, char *why,
+		   size_t len, struct sw_err *e)
+{
+	struct sw_chip_info chip;
+	char path[4096], oldwhy[256];
+
+	sw_file_path(o, b, path, sizeof(path));
+	return policy_for(b, o, cs, &chip, path, yes, why, len, oldwhy,
+			  sizeof(oldwhy), e);
+}
+
 int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, const struct sw_cal_state *cs,
 		     const uint8_t *blob, bool *saved, struct sw_err *e)
 {
-	struct sw_policy_in pin = { 0 };
-	struct sw_err lerr;
 	uint8_t out[SW_FILE_SIZE];
 	char path[4096], why[256], oldwhy[256];
-	struct sw_file old, nf;
+	struct sw_file nf;
+	bool yes;
 	int bad, ret;
 
 	if (saved)
 		*saved = false;
 	memset(&nf, 0, sizeof(nf));
-	ret = b->ops->chip_info(b, &nf.chip, e);
-	if (ret)
-		return ret;
 	if (!sw_cal_state_check(cs, why, sizeof(why)))
 		return sw_err_set(e, SW_EXIT_IO,
 				  "%s: %s, read from the chip: not saving",
@@ -243,21 +289,12 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 				  b->name, bad, sw_param_name(bad));
 	migrate_legacy(b, o, env);
 	sw_file_path(o, b, path, sizeof(path));
-	sw_err_clear(&lerr);
-	ret = load_existing(o, path, &nf.chip, &old, &pin.have_old, oldwhy,
-			    sizeof(oldwhy), NULL, &lerr);
-	/* A missing state directory is created by the write below. */
-	if (ret && ret != SW_EXIT_STATEDIR)
-		return sw_err_set(e, ret, "%s", lerr.msg);
-
-	pin.status = cs->status;
-	pin.score_raw = cs->score_raw;
-	pin.max_score = o->max_score;
-	pin.old_status = old.cal_status;
-	pin.old_score_raw = old.score_raw;
-	pin.force = o->force;
+	ret = policy_for(b, o, cs, &nf.chip, path, &yes, why, sizeof(why),
+			 oldwhy, sizeof(oldwhy), e);
+	if (ret)
+		return ret;
 	/* The policy saying no is the policy working: not a failure. */
-	if (!sw_policy_save(&pin, why, sizeof(why))) {
+	if (!yes) {
 		sw_note(env, "not saving %s calibration to %s: %s", b->name,
 			path, why);
 		return SW_EXIT_OK;
@@ -279,8 +316,8 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 	return SW_EXIT_OK;
 }
 
-int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
-		struct sw_env *env, struct sw_err *e)
+int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
+		struct sw_env *env, bool *saved, struct sw_err *e)
 {
 	struct sw_cal_state before, after;
 	uint8_t blob[SW_BLOB_SIZE];
@@ -307,7 +344,13 @@ int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
 	    (after.status == before.status &&
 	     after.score_raw > before.score_raw))
 		before = after;
-	return sw_save_snapshot(b, o, env, &before, blob, NULL, e);
+	return sw_save_snapshot(b, o, env, &before, blob, saved, e);
+}
+
+int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
+		struct sw_env *env, struct sw_err *e)
+{
+	return sw_save_now(b, o, env, NULL, e);
 }
 
 /*
@@ -479,10 +522,11 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 			fprintf(out, ",\"product_id\":%u,\"revision_id\":%u,\"rom_version\":%u,\"ram_version\":%u",
 				chip.product_id, chip.revision_id,
 				chip.rom_version, chip.ram_version);
-		fprintf(out, ",\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"mag_transient\":%d,\"gyro_bias_update\":%d,\"mag_calibration_update\":%d,\"file\":",
+		fprintf(out, ",\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"mag_transient\":%d,\"gyro_bias_updates\":%llu,\"mag_calibration_updates\":%llu,\"file\":",
 			cs.status, sw_score_pct(cs.score_raw), cs.score_raw,
-			cs.mag_transient, cs.gyro_bias_update,
-			cs.mag_cal_update);
+			cs.mag_transient,
+			(unsigned long long)cs.gyro_bias_updates,
+			(unsigned long long)cs.mag_cal_updates);
 		sw_json_str(out, path);
 		if (have_file)
 			fprintf(out, ",\"saved\":{\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"saved_at\":%llu}}\n",
@@ -508,8 +552,10 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 		cs.status == 3 ? " (complete)" : "");
 	fprintf(out, "calibration score:   %.3f%%\n", sw_score_pct(cs.score_raw));
 	fprintf(out, "mag transient:       %d\n", cs.mag_transient);
-	fprintf(out, "gyro bias update:    %d\n", cs.gyro_bias_update);
-	fprintf(out, "mag cal update:      %d\n", cs.mag_cal_update);
+	fprintf(out, "gyro bias updates:   %llu\n",
+		(unsigned long long)cs.gyro_bias_updates);
+	fprintf(out, "mag cal updates:     %llu\n",
+		(unsigned long long)cs.mag_cal_updates);
 	if (have_file)
 		fprintf(out, "saved file:          %s (status %d, score %.3f%%, saved %s)\n",
 			path, f.cal_status, sw_score_pct(f.score_raw), when);

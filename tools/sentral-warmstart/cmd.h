@@ -54,6 +54,28 @@ int sw_cmd_key(struct sw_backend *b, const struct sw_opts *o,
 	       struct sw_env *env, struct sw_err *e);
 int sw_cmd_accel_cal(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, struct sw_err *e);
+/*
+ * Stay running: save by the policy (o->improve_only, margin, at most one
+ * write per o->interval_s) whenever the driver reports a change. Ends
+ * with SW_EXIT_OK on SIGINT, SIGTERM or SIGHUP.
+ */
+int sw_cmd_watch(struct sw_backend *b, const struct sw_opts *o,
+		 struct sw_env *env, struct sw_err *e);
+
+/*
+ * save: read the state, the blob and the state again, and save by the
+ * policy; *saved (may be NULL) says whether a file was written.
+ */
+int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
+		struct sw_env *env, bool *saved, struct sw_err *e);
+
+/*
+ * Would the policy save a calibration in state cs? Reads the saved file
+ * and the chip's identity only, not the blob (no parameter transfer).
+ */
+int sw_save_wanted(struct sw_backend *b, const struct sw_opts *o,
+		   const struct sw_cal_state *cs, bool *yes, char *why,
+		   size_t len, struct sw_err *e);
 
 /*
  * Apply the save policy to a snapshot (calibration state + blob taken

@@ -59,6 +59,9 @@ static int run(const struct sw_opts *o, struct sw_env *env, struct sw_err *e)
 	case SW_CMD_KEY:
 		ret = sw_cmd_key(b, o, env, e);
 		break;
+	case SW_CMD_WATCH:
+		ret = sw_cmd_watch(b, o, env, e);
+		break;
 	default:
 		ret = sw_err_set(e, SW_EXIT_USAGE, "no command given");
 		break;

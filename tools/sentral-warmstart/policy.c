@@ -29,6 +29,16 @@ bool sw_policy_save(const struct sw_policy_in *in, char *why, size_t len)
 			 in->status);
 		return false;
 	}
+	/* In raw steps of 100/32768 %: exact where percentages round. */
+	if (in->improve_only && old_good &&
+	    (in->score_raw >= in->old_score_raw ||
+	     (double)in->old_score_raw - in->score_raw + 0.5 <
+	     in->margin * 32768.0 / 100.0)) {
+		snprintf(why, len,
+			 "score %.3f%% is not better than the saved %.3f%% by the margin of %.3f points",
+			 pct, old_pct, in->margin);
+		return false;
+	}
 	if (have_old && pct < old_pct) {
 		snprintf(why, len, "score %.3f%% is better than the saved %.3f%%",
 			 pct, old_pct);

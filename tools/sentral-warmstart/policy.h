@@ -10,6 +10,9 @@
 /* Seed app note: "acceptable when the score is about 5, best about 3". */
 #define SW_DEFAULT_MAX_SCORE 5.0
 #define SW_DEFAULT_TARGET_SCORE 3.0
+/* watch: a flash write at most every 5 minutes, for a gain of 0.5 points */
+#define SW_DEFAULT_INTERVAL_S 300
+#define SW_DEFAULT_MARGIN 0.5
 
 struct sw_policy_in {
 	int status;		/* current calibration status */
@@ -19,6 +22,9 @@ struct sw_policy_in {
 	int old_status;
 	uint16_t old_score_raw;
 	bool force;
+	/* a good saved file is replaced only by a score margin points lower */
+	bool improve_only;
+	double margin;
 };
 
 /*
@@ -26,6 +32,8 @@ struct sw_policy_in {
  * Rules: status must be 3; then the score must be <= max_score or better
  * (lower) than the existing file's; a file that is itself complete and
  * acceptable is never replaced by a worse one. --force overrides all.
+ * With improve_only (watch), a complete and acceptable file is replaced
+ * only by a score at least margin points lower: not by an equal one.
  */
 bool sw_policy_save(const struct sw_policy_in *in, char *why, size_t len);
 

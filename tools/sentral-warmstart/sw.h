@@ -101,8 +101,13 @@ struct sw_cal_state {
 	int status;		/* reg 0x43 bits 1:0, 3 = complete */
 	uint16_t score_raw;	/* regs 0x4D | 0x4E << 8 */
 	int mag_transient;	/* reg 0x43 bits 3:2 */
-	int gyro_bias_update;	/* reg 0x44 bit 1 */
-	int mag_cal_update;	/* reg 0x44 bit 0 */
+	/*
+	 * Updates the chip reported in reg 0x44 (bit 1 gyro bias, bit 0
+	 * magnetic calibration): the driver's counters, or over i2c-dev
+	 * those this process has seen. Only their changes mean anything.
+	 */
+	uint64_t gyro_bias_updates;
+	uint64_t mag_cal_updates;
 };
 
 /*

@@ -123,10 +123,6 @@ bool sw_cal_state_check(const struct sw_cal_state *cs, char *why, size_t len)
 	else if (cs->mag_transient < 0 || cs->mag_transient > 3)
 		snprintf(why, len, "mag_transient %d is not 0..3",
 			 cs->mag_transient);
-	else if ((unsigned int)cs->gyro_bias_update > 1 ||
-		 (unsigned int)cs->mag_cal_update > 1)
-		snprintf(why, len, "an update flag is not 0 or 1 (%d, %d)",
-			 cs->gyro_bias_update, cs->mag_cal_update);
 	else if (!sw_score_raw_valid(cs->score_raw))
 		snprintf(why, len, "calibration score %.3f%% is below 0 %%",
 			 sw_score_pct(cs->score_raw));

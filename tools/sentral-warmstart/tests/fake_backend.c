@@ -26,7 +26,7 @@ static void current_state(struct fake_be *f, struct sw_cal_state *cs)
 			break;
 		cs->status = f->script[i].status;
 		cs->score_raw = f->script[i].score_raw;
-		cs->gyro_bias_update = f->script[i].gyro_bias_update;
+		cs->gyro_bias_updates = f->script[i].gyro_bias_updates;
 	}
 }
 
@@ -116,6 +116,45 @@ static int f_offset_set(struct sw_backend *b, const int lsb[3],
 	return SW_EXIT_OK;
 }
 
+static int f_watch_begin(struct sw_backend *b, struct sw_err *e)
+{
+	(void)e;
+	to_fake(b)->watching = true;
+	return SW_EXIT_OK;
+}
+
+static int f_watch_wait(struct sw_backend *b, int timeout_ms, bool *changed,
+			struct sw_err *e)
+{
+	struct fake_be *f = to_fake(b);
+	uint64_t now = f->clk->now_ms;
+	size_t i;
+
+	f->waits++;
+	*changed = false;
+	for (i = 0; i < f->nsteps; i++) {
+		if (f->script[i].at_ms <= now)
+			continue;
+		if (timeout_ms >= 0 &&
+		    f->script[i].at_ms > now + (uint64_t)timeout_ms)
+			break;
+		f->clk->now_ms = f->script[i].at_ms;
+		f->wakeups++;
+		*changed = true;
+		return SW_EXIT_OK;
+	}
+	if (timeout_ms < 0 ||
+	    (f->end_ms && now + (uint64_t)timeout_ms > f->end_ms))
+		return sw_err_set(e, SW_EXIT_IO, "fake: the script has ended");
+	f->clk->now_ms = now + (uint64_t)timeout_ms;
+	return SW_EXIT_OK;
+}
+
+static void f_watch_end(struct sw_backend *b)
+{
+	to_fake(b)->watching = false;
+}
+
 static void f_close(struct sw_backend *b)
 {
 	(void)b;
@@ -130,6 +169,9 @@ static const struct sw_backend_ops fake_ops = {
 	.accel_raw = f_accel_raw,
 	.accel_offset_get = f_offset_get,
 	.accel_offset_set = f_offset_set,
+	.watch_begin = f_watch_begin,
+	.watch_wait = f_watch_wait,
+	.watch_end = f_watch_end,
 	.close = f_close,
 };
 

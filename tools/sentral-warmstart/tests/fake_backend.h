@@ -18,7 +18,7 @@ struct fake_step {
 	uint64_t at_ms;
 	int status;
 	uint16_t score_raw;
-	int gyro_bias_update;
+	uint64_t gyro_bias_updates;	/* the driver's counter */
 };
 
 struct fake_be {
@@ -43,6 +43,14 @@ struct fake_be {
 	/* the magnetometer at a time: NULL reads a device at rest */
 	void (*mag)(uint64_t now_ms, double ut[3]);
 	unsigned int mag_reads;
+	/*
+	 * watch: a wait ends at the next script step (the driver's report)
+	 * or its timeout; past the last step with no timeout, or a timeout
+	 * beyond end_ms (when not 0), it fails.
+	 */
+	uint64_t end_ms;
+	bool watching;
+	unsigned int waits, wakeups;
 };
 
 void fake_init(struct fake_be *f, struct fake_clock *clk);

@@ -44,6 +44,8 @@ static void test_defaults(void **state)
 	assert_true(o.target_score == 3.0);
 	assert_int_equal(o.timeout_s, 120);
 	assert_int_equal(o.samples, 64);
+	assert_int_equal(o.interval_s, 300);
+	assert_true(o.margin == 0.5);
 }
 
 static void test_good(void **state)
@@ -87,6 +89,14 @@ static void test_good(void **state)
 	assert_int_equal(parse(&o, &e, "accel-cal", "--samples", "16", NULL),
 			 SW_EXIT_OK);
 	assert_int_equal(o.samples, 16);
+	assert_int_equal(parse(&o, &e, "--device", "iio:device0", "watch",
+			       "--interval", "60", "--margin", "0.25",
+			       "--max-score", "4", NULL), SW_EXIT_OK);
+	assert_int_equal(o.cmd, SW_CMD_WATCH);
+	assert_int_equal(o.interval_s, 60);
+	assert_true(o.margin == 0.25);
+	assert_true(o.max_score == 4.0);
+	assert_false(o.improve_only);
 	assert_int_equal(parse(&o, &e, "--help", NULL), SW_EXIT_OK);
 	assert_true(o.help);
 	assert_int_equal(parse(&o, &e, "-V", NULL), SW_EXIT_OK);
@@ -154,6 +164,16 @@ static void test_errors(void **state)
 {
 	(void)state;
 	expect_usage("no command", NULL);
+	expect_usage("--interval is not an option of 'save'", "save",
+		     "--interval", "60", NULL);
+	expect_usage("--margin is not an option of 'calibrate'", "calibrate",
+		     "--margin", "1", NULL);
+	expect_usage("--interval: '0' is not a number between 1 and 86400",
+		     "watch", "--interval", "0", NULL);
+	expect_usage("--margin: '-1' is not a number between 0 and 100",
+		     "watch", "--margin", "-1", NULL);
+	expect_usage("watch needs the em7180 driver", "--i2c", "/dev/i2c-0",
+		     "watch", NULL);
 	expect_usage("no command", "--device", "x", NULL);
 	expect_usage("unknown command 'frobnicate'", "frobnicate", NULL);
 	expect_usage("unknown option '--bogus'", "status", "--bogus", NULL);

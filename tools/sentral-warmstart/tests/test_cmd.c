@@ -3,6 +3,7 @@
  * Unit tests: save, restore, status, show, calibrate and accel-cal against
  * a fake chip and a fake clock.
  */
+#include <fcntl.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -371,9 +372,6 @@ static void test_save_distrusts_chip_values(void **state)
 	c->fb.cs.mag_transient = -1;
 	assert_int_not_equal(save(c), SW_EXIT_OK);
 	c->fb.cs.mag_transient = 0;
-	c->fb.cs.gyro_bias_update = 2;
-	assert_int_not_equal(save(c), SW_EXIT_OK);
-	c->fb.cs.gyro_bias_update = 0;
 	/* A good read saves again: nothing was blocked. */
 	c->fb.cs.score_raw = sw_score_raw(1.0);
 	assert_int_equal(save(c), SW_EXIT_OK);
@@ -578,13 +576,13 @@ static void test_show(void **state)
 }
 
 static const struct fake_step cal_ok[] = {
-	{ 0, 0, 0xffff, 0 },
-	{ 3000, 0, 0xffff, 1 },		/* gyro bias learned */
-	{ 3500, 1, 0xffff, 0 },
-	{ 5000, 2, 0xffff, 0 },
-	{ 7000, 3, 0x8000 + 3276, 0 },	/* about 10 % */
-	{ 9000, 3, 0x8000 + 1500, 0 },
-	{ 11000, 3, 0x8000 + 900, 0 },	/* 2.747 %: done */
+	{ 0, 0, 0xffff, 4 },
+	{ 3000, 0, 0xffff, 5 },		/* gyro bias learned */
+	{ 3500, 1, 0xffff, 5 },
+	{ 5000, 2, 0xffff, 5 },
+	{ 7000, 3, 0x8000 + 3276, 5 },	/* about 10 % */
+	{ 9000, 3, 0x8000 + 1500, 5 },
+	{ 11000, 3, 0x8000 + 900, 5 },	/* 2.747 %: done */
 };
 
 /* A field of 49 uT around the simulator's hard-iron offset (uT). */
@@ -670,8 +668,9 @@ static void test_calibrate_json(void **state)
 /* Stuck at 4 %, then worse: keep and save the 4 % snapshot. */
 static const struct fake_step cal_plateau[] = {
 	{ 0, 0, 0xffff, 1 },
-	{ 2000, 3, 0x8000 + 1311, 0 },	/* 4.0 % */
-	{ 4000, 3, 0x8000 + 1600, 0 },	/* 4.9 % */
+	{ 500, 0, 0xffff, 2 },
+	{ 2000, 3, 0x8000 + 1311, 2 },	/* 4.0 % */
+	{ 4000, 3, 0x8000 + 1600, 2 },	/* 4.9 % */
 };
 
 static void test_calibrate_timeout_keeps_best(void **state)
@@ -694,7 +693,8 @@ static void test_calibrate_timeout_keeps_best(void **state)
 
 static const struct fake_step cal_never[] = {
 	{ 0, 0, 0xffff, 1 },
-	{ 1000, 2, 0xffff, 0 },
+	{ 500, 0, 0xffff, 2 },
+	{ 1000, 2, 0xffff, 2 },
 };
 
 static void test_calibrate_incomplete(void **state)
@@ -704,7 +704,7 @@ static void test_calibrate_incomplete(void **state)
 	c->clk.now_ms = 0;
 	c->o.timeout_s = 5;
 	c->fb.script = cal_never;
-	c->fb.nsteps = 2;
+	c->fb.nsteps = 3;
 	c->fb.mag = mag_spin;
 	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_CAL);
@@ -716,7 +716,6 @@ static void test_calibrate_incomplete(void **state)
 	/* Never still: the gyro bias is never learned. */
 	c->clk.now_ms = 0;
 	c->fb.nsteps = 0;
-	c->fb.cs.gyro_bias_update = 0;
 	sw_err_clear(&c->e);
 	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_CAL);
@@ -806,6 +805,123 @@ static void test_accel_cal_distrusts_offsets(void **state)
 	assert_int_equal(c->fb.offset[0], 0);
 }
 
+
+/* Score in percent as the script's raw value. */
+#define PCT(p) ((uint16_t)(0x8000 + (int)((p) * 327.68 + 0.5)))
+
+/*
+ * A calibration that keeps moving, the driver waking the watcher at each
+ * change: saves at most every 300 s, and only 0.5 points better than the
+ * saved file.
+ */
+static const struct fake_step drifting[] = {
+	{ 0, 0, PCT(50.0), 0 },
+	{ 10000, 3, PCT(3.0), 0 },	/* first good one: saved at once */
+	{ 20000, 3, PCT(2.8), 0 },	/* 0.2 better: not worth a write */
+	{ 30000, 3, PCT(2.4), 0 },	/* 0.6 better, 20 s after the write */
+	{ 100000, 3, PCT(2.3), 0 },	/* still waiting: saved at 310 s */
+	{ 400000, 2, PCT(10.0), 0 },	/* the field changed */
+	{ 500000, 3, PCT(2.0), 0 },	/* 0.3 better than 2.3 */
+	{ 700000, 3, PCT(1.7), 0 },	/* 0.6 better, interval past */
+	{ 800000, 3, PCT(1.7), 0 },
+};
+
+static int count(const char *s, const char *what)
+{
+	int n = 0;
+
+	while ((s = strstr(s, what))) {
+		n++;
+		s += strlen(what);
+	}
+	return n;
+}
+
+static void test_watch(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	c->clk.now_ms = 0;
+	c->o.interval_s = 300;
+	c->o.margin = 0.5;
+	c->fb.script = drifting;
+	c->fb.nsteps = sizeof(drifting) / sizeof(drifting[0]);
+	c->fb.blob_follows_score = true;
+	/* The fake ends the watch when its script has ended. */
+	assert_int_equal(sw_cmd_watch(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_IO);
+	assert_non_null(strstr(c->e.msg, "the script has ended"));
+	assert_false(c->fb.watching);
+	assert_int_equal(count(out_text(c), "saved iio:device0 calibration"), 3);
+	assert_non_null(strstr(out_text(c), "score 3.000% is within the limit"));
+	assert_non_null(strstr(out_text(c), "score 2.301% is better than the saved 3.000%"));
+	assert_non_null(strstr(out_text(c), "score 1.700% is better than the saved 2.301%"));
+	/* told once that a save waits, with when */
+	assert_int_equal(count(out_text(c), "but the last write was"), 1);
+	assert_non_null(strstr(out_text(c), "the last write was 20 s ago: saving it in 280 s"));
+	/* the snapshot of the chip at 310 s is the one saved then */
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, PCT(1.7));
+	assert_true(sw_blob_param(f.payload, 18) == (float)PCT(1.7));
+	/* woken by each change, and once by the end of the interval */
+	assert_int_equal(c->fb.wakeups, 8);
+	assert_int_equal(c->fb.waits, 10);
+}
+
+/* A margin of 0: any better score is saved, an equal one never. */
+static void test_watch_margin_zero(void **state)
+{
+	static const struct fake_step steps[] = {
+		{ 0, 3, PCT(3.0), 0 },
+		{ 400000, 3, PCT(3.0), 0 },
+		{ 800000, 3, PCT(2.99), 0 },
+	};
+	struct ctx *c = *state;
+
+	c->clk.now_ms = 0;
+	c->o.interval_s = 300;
+	c->o.margin = 0;
+	c->fb.script = steps;
+	c->fb.nsteps = 3;
+	assert_int_equal(sw_cmd_watch(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_IO);
+	assert_int_equal(count(out_text(c), "saved iio:device0 calibration"), 2);
+}
+
+/*
+ * A state directory that cannot be used is logged, and tried again after
+ * the interval and at each change, never polled faster.
+ */
+static void test_watch_save_fails(void **state)
+{
+	static const struct fake_step steps[] = {
+		{ 0, 3, PCT(3.0), 0 },
+		{ 100000, 3, PCT(3.0), 0 },
+	};
+	struct ctx *c = *state;
+	char sub[160];
+
+	c->clk.now_ms = 0;
+	c->o.interval_s = 60;
+	c->o.margin = 0.5;
+	c->fb.script = steps;
+	c->fb.nsteps = 2;
+	c->fb.end_ms = 200000;
+	snprintf(sub, sizeof(sub), "%s/sub", c->dir);
+	c->o.state_dir = sub;
+	/* a state directory that cannot be made: a file in its way */
+	assert_int_equal(close(open(sub, O_CREAT | O_WRONLY, 0600)), 0);
+	assert_int_equal(sw_cmd_watch(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_IO);
+	fflush(c->errf);
+	/* at 0, 60, 100 (a change) and 160 s */
+	assert_int_equal(count(c->err, "sentral-warmstart: error:"), 4);
+	assert_int_equal(count(out_text(c), "watch: trying again in 60 s"), 4);
+	assert_int_equal(count(out_text(c), "saved iio"), 0);
+	unlink(sub);
+}
+
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
 
 int main(void)
@@ -837,6 +953,9 @@ int main(void)
 		T(test_accel_cal),
 		T(test_accel_cal_refusals),
 		T(test_accel_cal_distrusts_offsets),
+		T(test_watch),
+		T(test_watch_margin_zero),
+		T(test_watch_save_fails),
 	};
 
 	return cmocka_run_group_tests_name("commands", tests, NULL, NULL);

@@ -89,6 +89,45 @@ static void test_never_worse_than_good_file(void **state)
 	assert_true(decide(3, 4.5, true, 2, 2.0, false, why, sizeof(why)));
 }
 
+/* watch: a good file is replaced only by a margin better score. */
+static void test_improve_only(void **state)
+{
+	struct sw_policy_in in = {
+		.status = 3, .max_score = SW_DEFAULT_MAX_SCORE, .have_old = true,
+		.old_status = 3, .old_score_raw = sw_score_raw(3.0),
+		.improve_only = true, .margin = 0.5,
+	};
+	char why[256];
+
+	(void)state;
+	in.score_raw = sw_score_raw(3.0);
+	assert_false(sw_policy_save(&in, why, sizeof(why)));
+	assert_non_null(strstr(why, "not better than the saved 3.000% by the margin of 0.500 points"));
+	in.score_raw = sw_score_raw(2.6);
+	assert_false(sw_policy_save(&in, why, sizeof(why)));
+	in.score_raw = sw_score_raw(2.5);
+	assert_true(sw_policy_save(&in, why, sizeof(why)));
+	/* margin 0: better at all, never equal */
+	in.margin = 0;
+	in.score_raw = sw_score_raw(3.0);
+	assert_false(sw_policy_save(&in, why, sizeof(why)));
+	in.score_raw = sw_score_raw(2.99);
+	assert_true(sw_policy_save(&in, why, sizeof(why)));
+	/* a file that is not good is replaced by any good calibration */
+	in.margin = 0.5;
+	in.old_status = 2;
+	in.score_raw = sw_score_raw(3.0);
+	assert_true(sw_policy_save(&in, why, sizeof(why)));
+	in.old_status = 3;
+	in.old_score_raw = sw_score_raw(6.0);
+	in.score_raw = sw_score_raw(5.9);
+	assert_true(sw_policy_save(&in, why, sizeof(why)));
+	/* and incomplete is still no */
+	in.status = 2;
+	in.score_raw = sw_score_raw(1.0);
+	assert_false(sw_policy_save(&in, why, sizeof(why)));
+}
+
 static void test_force(void **state)
 {
 	char why[256];
@@ -108,6 +147,7 @@ int main(void)
 		cmocka_unit_test(test_better_than_file),
 		cmocka_unit_test(test_never_worse_than_good_file),
 		cmocka_unit_test(test_force),
+		cmocka_unit_test(test_improve_only),
 	};
 
 	return cmocka_run_group_tests_name("policy", tests, NULL, NULL);
