@@ -162,6 +162,9 @@ struct sentral_sim {
 	/* field directions seen since calibration (re)started */
 	DECLARE_BITMAP(cal_seen, SIM_REGIONS);
 	u8 cal_flags;			/* latched 0x44 bits */
+	/* updates made and their flags read set, [0] mag, [1] gyro bias */
+	u64 cal_updates[2];
+	u64 cal_updates_read[2];
 	u8 event_status;
 	u64 drdy_seen;		/* EventStatus reads that reported new data */
 	u32 noise_state;
@@ -190,10 +193,16 @@ struct sentral_sim {
 
 	/* The world: orientation and motion (survives resets) */
 	struct sim_motion world;
+	/* the magnetometer's true coefficients, moved by drift_ms */
+	s32 coeff_true[SIM_NCOEFFS];
+	u32 score_floor_milli;		/* score at the true coefficients */
+	u64 drift_ns;			/* turning time since the last drift */
+	u32 drift_rng;
 
 	/* Knobs */
 	u32 cal_duration_ms;
 	u32 gbias_period_ms;
+	u32 drift_ms;			/* 0: the field never changes */
 	u8 mag_transient;
 	s16 accel_bias[3];
 	u32 ack_latency_us;

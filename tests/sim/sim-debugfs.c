@@ -215,6 +215,30 @@ static int gbias_period_store(struct sentral_sim *sim, char *buf, ktime_t now)
 	return sim_parse_period_ms(buf, &sim->gbias_period_ms);
 }
 
+static void drift_show(struct seq_file *m, struct sentral_sim *sim,
+		       ktime_t now)
+{
+	seq_printf(m, "%u\n", sim->drift_ms);
+}
+
+/* 0 turns drift off; the field stays where it has drifted to */
+static int drift_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	int ret = sim_parse_u32(buf, SIM_MAX_MS, &sim->drift_ms);
+
+	if (!ret)
+		sim->drift_ns = 0;
+	return ret;
+}
+
+static void cal_updates_show(struct seq_file *m, struct sentral_sim *sim,
+			     ktime_t now)
+{
+	seq_printf(m, "mag %llu\nmag_read %llu\ngbias %llu\ngbias_read %llu\n",
+		   sim->cal_updates[0], sim->cal_updates_read[0],
+		   sim->cal_updates[1], sim->cal_updates_read[1]);
+}
+
 static void mag_transient_show(struct seq_file *m, struct sentral_sim *sim,
 			       ktime_t now)
 {
@@ -528,6 +552,8 @@ static const struct sim_knob sim_knobs[] = {
 	{ "coverage", 0400, coverage_show, NULL },
 	{ "cal_duration_ms", 0600, cal_duration_show, cal_duration_store },
 	{ "gbias_period_ms", 0600, gbias_period_show, gbias_period_store },
+	{ "drift_ms", 0600, drift_show, drift_store },
+	{ "cal_updates", 0400, cal_updates_show, NULL },
 	{ "mag_transient", 0600, mag_transient_show, mag_transient_store },
 	{ "accel_bias", 0600, accel_bias_show, accel_bias_store },
 	{ "ack_latency_us", 0600, ack_latency_show, ack_latency_store },

@@ -58,6 +58,11 @@
 #define SIM_COVER_FULL		70
 /* Score (percent * 1000) of the true coefficients and of the defaults */
 #define SIM_SCORE_FLOOR_MILLI	2700
+/* Drift: offsets step by up to 3 uT, stay within 10 uT; floor 1.5-4.5 % */
+#define SIM_DRIFT_STEP_PT	3000000
+#define SIM_DRIFT_RANGE_PT	10000000
+#define SIM_DRIFT_FLOOR_MILLI	1500
+#define SIM_DRIFT_FLOOR_SPAN	3001
 #define SIM_SCORE_SPAN_MILLI	47300
 #define SIM_SCORE_MAX_MILLI	99700
 /* gain errors are weighted as if multiplied by a 50 uT field */
@@ -118,13 +123,13 @@ bool sim_algo_running(struct sentral_sim *sim, ktime_t now)
 	       !(algo & (SIM_ALGO_STANDBY | SIM_ALGO_PARAM_PROC));
 }
 
-static u64 sim_coeff_error(const s32 *coeff)
+static u64 sim_coeff_error(struct sentral_sim *sim, const s32 *coeff)
 {
 	u64 err = 0;
 	int i;
 
 	for (i = 0; i < SIM_NCOEFFS; i++) {
-		u64 d = abs((s64)coeff[i] - sim_coeff_true[i]);
+		u64 d = abs((s64)coeff[i] - sim->coeff_true[i]);
 
 		err += i < 3 ? d * SIM_GAIN_WEIGHT : d;
 	}
@@ -134,8 +139,8 @@ static u64 sim_coeff_error(const s32 *coeff)
 /* CalStatus from the remaining error relative to the uncalibrated one */
 u8 sim_cal_status(struct sentral_sim *sim)
 {
-	u64 err = sim_coeff_error(sim->coeff) * 100;
-	u64 ref = sim_coeff_error(sim_coeff_default);
+	u64 err = sim_coeff_error(sim, sim->coeff) * 100;
+	u64 ref = sim_coeff_error(sim, sim_coeff_default);
 
 	if (err > ref * 70)
 		return 0;
@@ -149,11 +154,11 @@ u8 sim_cal_status(struct sentral_sim *sim)
 /* Score registers: raw = 32768 + round(percent * 327.68), seed register map */
 u16 sim_cal_score_raw(struct sentral_sim *sim)
 {
-	u64 err = min_t(u64, sim_coeff_error(sim->coeff), 1ULL << 40);
-	u64 ref = sim_coeff_error(sim_coeff_default);
+	u64 err = min_t(u64, sim_coeff_error(sim, sim->coeff), 1ULL << 40);
+	u64 ref = sim_coeff_error(sim, sim_coeff_default);
 	u64 milli;
 
-	milli = SIM_SCORE_FLOOR_MILLI +
+	milli = sim->score_floor_milli +
 		div64_u64(err * SIM_SCORE_SPAN_MILLI + ref / 2, ref);
 	milli = min_t(u64, milli, SIM_SCORE_MAX_MILLI);
 	return 32768 + div64_u64(milli * 32768 + 50000, 100000);
@@ -200,7 +205,7 @@ static void sim_cal_progress(struct sentral_sim *sim)
 
 	for (i = 0; i < SIM_NCOEFFS; i++) {
 		s64 from = sim->coeff_from[i];
-		s32 c = from + div_s64((sim_coeff_true[i] - from) * k,
+		s32 c = from + div_s64((sim->coeff_true[i] - from) * k,
 				       SIM_CAL_STEPS);
 
 		if (c == sim->coeff[i])
@@ -209,8 +214,42 @@ static void sim_cal_progress(struct sentral_sim *sim)
 		sim->params[SIM_PARAM_MCOEFF + i] = sim_f32_from_ratio(c, SIM_MICRO);
 		changed = true;
 	}
-	if (changed)
+	if (changed) {
 		sim->cal_flags |= SIM_CAL_MAG_UPDATE;
+		sim->cal_updates[0]++;
+	}
+}
+
+/* A fixed LCG (Numerical Recipes): the same drifts after every load */
+static u32 sim_drift_next(struct sentral_sim *sim, u32 span)
+{
+	sim->drift_rng = sim->drift_rng * 1664525 + 1013904223;
+	return (u32)(((u64)(sim->drift_rng >> 8) * span) >> 24);
+}
+
+/*
+ * The magnetic surroundings change: each hard-iron offset steps by up to
+ * SIM_DRIFT_STEP_PT, within SIM_DRIFT_RANGE_PT of its original value, the
+ * best score reachable takes a new value, and convergence starts again
+ * from the coefficients the chip has (the sphere seen stays seen).
+ */
+static void sim_drift(struct sentral_sim *sim)
+{
+	int i;
+
+	for (i = 3; i < SIM_NCOEFFS; i++) {
+		s64 c = sim->coeff_true[i] - SIM_DRIFT_STEP_PT +
+			sim_drift_next(sim, 2 * SIM_DRIFT_STEP_PT + 1);
+
+		sim->coeff_true[i] = clamp_t(s64, c,
+					     sim_coeff_true[i] - SIM_DRIFT_RANGE_PT,
+					     sim_coeff_true[i] + SIM_DRIFT_RANGE_PT);
+	}
+	sim->score_floor_milli = SIM_DRIFT_FLOOR_MILLI +
+				 sim_drift_next(sim, SIM_DRIFT_FLOOR_SPAN);
+	memcpy(sim->coeff_from, sim->coeff, sizeof(sim->coeff));
+	sim->cal_ns = 0;
+	sim->cal_step = 0;
 }
 
 /* While still, the gyro bias is learned: store it and latch gBiasUpdate */
@@ -223,6 +262,7 @@ static void sim_learn_gyro_bias(struct sentral_sim *sim)
 			sim_f32_from_ratio((s64)sim_gyro_true_bias[i] *
 					   SIM_GYRO_FS_DPS, SIM_FS_COUNTS);
 	sim->cal_flags |= SIM_CAL_GBIAS_UPDATE;
+	sim->cal_updates[1]++;
 }
 
 /*
@@ -289,6 +329,12 @@ void sim_advance(struct sentral_sim *sim, ktime_t now)
 	if (moving) {
 		sim->cal_ns += moving;
 		sim->still_ns = 0;
+		sim->drift_ns += moving;
+		if (sim->drift_ms &&
+		    sim->drift_ns >= (u64)sim->drift_ms * NSEC_PER_MSEC) {
+			sim->drift_ns = 0;
+			sim_drift(sim);
+		}
 		sim_cal_progress(sim);
 		return;
 	}
@@ -422,8 +468,8 @@ static void sim_make_mag(struct sentral_sim *sim)
 
 	for (i = 0; i < 3; i++) {
 		/* what the sensor sees, then the model's correction */
-		s64 raw = div_s64(body[i] * SIM_MICRO, sim_coeff_true[i]) +
-			  sim_coeff_true[3 + i];
+		s64 raw = div_s64(body[i] * SIM_MICRO, sim->coeff_true[i]) +
+			  sim->coeff_true[3 + i];
 		s64 out = div_s64((raw - sim->coeff[3 + i]) * sim->coeff[i],
 				  SIM_MICRO);
 		s64 lsb = out * SIM_FS_COUNTS;
@@ -689,6 +735,9 @@ void sim_model_init(struct sentral_sim *sim)
 	sim->ack_latency_us = 500;
 	sim->upload_ms = 10;
 	sim->ram_version = 0x0d17;
+	memcpy(sim->coeff_true, sim_coeff_true, sizeof(sim->coeff_true));
+	sim->score_floor_milli = SIM_SCORE_FLOOR_MILLI;
+	sim->drift_rng = 1;
 	sim_motion_init(&sim->world, ktime_get());
 	sim_power_on(sim, ktime_get());
 }
@@ -779,8 +828,11 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 		return sim_cal_status(sim) | sim->mag_transient << 2;
 	case SIM_REG_CAL_FLAGS:
 		v = sim->cal_flags;
-		if (!peek)
+		if (!peek) {
 			sim->cal_flags = 0;	/* latched until read */
+			sim->cal_updates_read[0] += v & SIM_CAL_MAG_UPDATE;
+			sim->cal_updates_read[1] += !!(v & SIM_CAL_GBIAS_UPDATE);
+		}
 		return v;
 	case SIM_REG_ACTUAL_MAG:
 		return sim_actual_rate(sim, SIM_REG_MAG_RATE);

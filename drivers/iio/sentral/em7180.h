@@ -15,6 +15,7 @@
 #include <linux/pm.h>
 #include <linux/regmap.h>
 #include <linux/types.h>
+#include <linux/workqueue.h>
 
 #define EM7180_REG_QX			0x00	/* float32 x, y, z, w */
 #define EM7180_REG_QTIME		0x10	/* u16 LE, 1/32768 s */
@@ -34,7 +35,7 @@
 #define EM7180_REG_PARAM_ACK		0x3A
 #define EM7180_REG_SAVED_PARAM		0x3B	/* 0x3B..0x3E, u32 LE */
 #define EM7180_REG_CAL_STATUS		0x43
-#define EM7180_REG_CAL_FLAGS		0x44	/* may clear on read */
+#define EM7180_REG_CAL_FLAGS		0x44	/* latched, may clear on read */
 #define EM7180_REG_ACTUAL_MAG_RATE	0x45
 #define EM7180_REG_ACTUAL_ACCEL_RATE	0x46
 #define EM7180_REG_ACTUAL_GYRO_RATE	0x47
@@ -131,6 +132,31 @@ enum em7180_scan {
  */
 #define EM7180_BURST_LEN		(EM7180_REG_GTIME + 2 - EM7180_REG_QX)
 
+/* Change checks while the magnetometer change event is enabled */
+#define EM7180_CAL_PERIOD_MIN_MS	1000U
+#define EM7180_CAL_PERIOD_MAX_MS	60000U
+
+/* What a read of the calibration block found changed */
+#define EM7180_CAL_CH_STATUS		BIT(0)
+#define EM7180_CAL_CH_SCORE		BIT(1)
+#define EM7180_CAL_CH_TRANSIENT		BIT(2)
+#define EM7180_CAL_CH_GYRO_UPDATE	BIT(3)
+#define EM7180_CAL_CH_MAG_UPDATE	BIT(4)
+
+/**
+ * struct em7180_cal - calibration state as last read from the chip
+ * @status: register 0x43, CalStatus in bits 1:0, MagTransient in 3:2
+ * @score: raw score, 0x4D | 0x4E << 8
+ * @gyro_updates: gBiasUpdate flags (0x44 bit 1) read since probe
+ * @mag_updates: magCalUpdate flags (0x44 bit 0) read since probe
+ */
+struct em7180_cal {
+	u8 status;
+	u16 score;
+	u64 gyro_updates;
+	u64 mag_updates;
+};
+
 struct iio_trigger;
 
 /**
@@ -145,7 +171,11 @@ struct iio_trigger;
  * @ack_known: @ack_stale holds what ParamAcknowledge reads between transfers
  * @ack_stale: that value: 0, or the echo of the last request served
  * @stop_unacked: the firmware does not echo ParamRequest = 0
- * @cal_flags: calibration update flags read but not yet reported
+ * @cal: calibration state last read, with the update counters
+ * @cal_watch: the magnetometer change event is enabled: check for changes
+ * @cal_period_ms: period of the change checks, from a minimum after a change
+ * @cal_work: the change check
+ * @cal_indio_dev: the IIO device, for the change check's reports
  * @product_id: ProductID read at probe
  * @revision_id: RevisionID read at probe
  * @rom_version: ROM version, read at probe
@@ -175,7 +205,11 @@ struct em7180_data {
 	bool ack_known;
 	u8 ack_stale;
 	bool stop_unacked;
-	u8 cal_flags;
+	struct em7180_cal cal;
+	bool cal_watch;
+	unsigned int cal_period_ms;
+	struct delayed_work cal_work;
+	struct iio_dev *cal_indio_dev;
 	u8 product_id;
 	u8 revision_id;
 	u16 rom_version;
@@ -223,5 +257,30 @@ int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 			     loff_t off, size_t count);
 int em7180_score_milli(u16 raw);
+
+/* Attribute addresses of em7180_cal_show() */
+enum em7180_cal_attr {
+	EM7180_CAL_ATTR_STATUS,
+	EM7180_CAL_ATTR_SCORE,
+	EM7180_CAL_ATTR_TRANSIENT,
+	EM7180_CAL_ATTR_GYRO_UPDATES,
+	EM7180_CAL_ATTR_MAG_UPDATES,
+};
+
+ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
+			char *buf);
+extern const struct iio_event_spec em7180_magn_event;
+int em7180_cal_init(struct iio_dev *indio_dev);
+int em7180_read_event_config(struct iio_dev *indio_dev,
+			     const struct iio_chan_spec *chan,
+			     enum iio_event_type type,
+			     enum iio_event_direction dir);
+int em7180_write_event_config(struct iio_dev *indio_dev,
+			      const struct iio_chan_spec *chan,
+			      enum iio_event_type type,
+			      enum iio_event_direction dir, int state);
+unsigned int em7180_cal_update(struct em7180_cal *cal, const u8 *regs);
+unsigned int em7180_cal_next_period(unsigned int period_ms,
+				    unsigned int changed);
 
 #endif /* _EM7180_H_ */

@@ -152,7 +152,7 @@ static const struct iio_chan_spec_ext_info em7180_ext_info[] = {
 	{ }
 };
 
-#define EM7180_VEC_CHANNEL(_type, _axis, _reg, _index, _sep)		\
+#define EM7180_VEC_CHANNEL_EV(_type, _axis, _reg, _index, _sep, _ev, _nev) \
 {									\
 	.type = _type,							\
 	.modified = 1,							\
@@ -171,7 +171,17 @@ static const struct iio_chan_spec_ext_info em7180_ext_info[] = {
 		.endianness = IIO_LE,					\
 	},								\
 	.ext_info = em7180_ext_info,					\
+	.event_spec = _ev,						\
+	.num_event_specs = _nev,					\
 }
+
+#define EM7180_VEC_CHANNEL(_type, _axis, _reg, _index, _sep)		\
+	EM7180_VEC_CHANNEL_EV(_type, _axis, _reg, _index, _sep, NULL, 0)
+
+/* Magnetometer axes: also the calibration change event */
+#define EM7180_MAGN_CHANNEL(_axis, _reg, _index)			\
+	EM7180_VEC_CHANNEL_EV(IIO_MAGN, _axis, _reg, _index, 0,		\
+			      &em7180_magn_event, 1)
 
 static const struct iio_chan_spec em7180_channels[] = {
 	{
@@ -190,9 +200,9 @@ static const struct iio_chan_spec em7180_channels[] = {
 			.repeat = 4,
 		},
 	},
-	EM7180_VEC_CHANNEL(IIO_MAGN, X, EM7180_REG_MX, EM7180_SCAN_MAGN_X, 0),
-	EM7180_VEC_CHANNEL(IIO_MAGN, Y, EM7180_REG_MX + 2, EM7180_SCAN_MAGN_Y, 0),
-	EM7180_VEC_CHANNEL(IIO_MAGN, Z, EM7180_REG_MX + 4, EM7180_SCAN_MAGN_Z, 0),
+	EM7180_MAGN_CHANNEL(X, EM7180_REG_MX, EM7180_SCAN_MAGN_X),
+	EM7180_MAGN_CHANNEL(Y, EM7180_REG_MX + 2, EM7180_SCAN_MAGN_Y),
+	EM7180_MAGN_CHANNEL(Z, EM7180_REG_MX + 4, EM7180_SCAN_MAGN_Z),
 	EM7180_VEC_CHANNEL(IIO_ACCEL, X, EM7180_REG_AX, EM7180_SCAN_ACCEL_X,
 			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
 	EM7180_VEC_CHANNEL(IIO_ACCEL, Y, EM7180_REG_AX + 2, EM7180_SCAN_ACCEL_Y,
@@ -563,89 +573,6 @@ static int em7180_write_raw_get_fmt(struct iio_dev *indio_dev,
 	return IIO_VAL_INT;
 }
 
-static int em7180_read_reg(struct em7180_data *data, unsigned int reg,
-			   unsigned int *val)
-{
-	int ret;
-
-	mutex_lock(&data->lock);
-	ret = regmap_read(data->regmap, reg, val);
-	mutex_unlock(&data->lock);
-
-	return ret;
-}
-
-static ssize_t in_magn_calibration_auto_status_show(struct device *dev,
-						    struct device_attribute *attr,
-						    char *buf)
-{
-	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
-	unsigned int val;
-	int ret;
-
-	ret = em7180_read_reg(data, EM7180_REG_CAL_STATUS, &val);
-	if (ret)
-		return ret;
-
-	return sysfs_emit(buf, "%lu\n", FIELD_GET(EM7180_CAL_STATUS_MASK, val));
-}
-
-static ssize_t in_magn_transient_show(struct device *dev,
-				      struct device_attribute *attr, char *buf)
-{
-	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
-	unsigned int val;
-	int ret;
-
-	ret = em7180_read_reg(data, EM7180_REG_CAL_STATUS, &val);
-	if (ret)
-		return ret;
-
-	return sysfs_emit(buf, "%lu\n",
-			  FIELD_GET(EM7180_CAL_MAG_TRANSIENT_MASK, val));
-}
-
-/*
- * The firmware may clear both update flags when 0x44 is read: keep what was
- * seen until the attribute of each flag has reported it.
- */
-static ssize_t em7180_cal_flag_show(struct device *dev, char *buf,
-				    unsigned int flag)
-{
-	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
-	unsigned int val;
-	bool set = false;
-	int ret;
-
-	mutex_lock(&data->lock);
-	ret = regmap_read(data->regmap, EM7180_REG_CAL_FLAGS, &val);
-	if (!ret) {
-		data->cal_flags |= val & (EM7180_CAL_FLAG_MAG_UPDATE |
-					  EM7180_CAL_FLAG_GBIAS_UPDATE);
-		set = data->cal_flags & flag;
-		data->cal_flags &= ~flag;
-	}
-	mutex_unlock(&data->lock);
-	if (ret)
-		return ret;
-
-	return sysfs_emit(buf, "%d\n", set);
-}
-
-static ssize_t in_anglvel_calibration_update_show(struct device *dev,
-						  struct device_attribute *attr,
-						  char *buf)
-{
-	return em7180_cal_flag_show(dev, buf, EM7180_CAL_FLAG_GBIAS_UPDATE);
-}
-
-static ssize_t in_magn_calibration_update_show(struct device *dev,
-					       struct device_attribute *attr,
-					       char *buf)
-{
-	return em7180_cal_flag_show(dev, buf, EM7180_CAL_FLAG_MAG_UPDATE);
-}
-
 /**
  * em7180_score_milli() - the calibration score in thousandths of a percent
  * @raw: CalScore register pair (0x4D | 0x4E << 8)
@@ -661,27 +588,6 @@ int em7180_score_milli(u16 raw)
 	return DIV_ROUND_CLOSEST(((int)raw - 32768) * 3125, 1024);
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_score_milli);
-
-static ssize_t in_magn_calibration_score_show(struct device *dev,
-					      struct device_attribute *attr,
-					      char *buf)
-{
-	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
-	__le16 raw;
-	int milli;
-	int ret;
-
-	mutex_lock(&data->lock);
-	ret = regmap_bulk_read(data->regmap, EM7180_REG_CAL_SCORE, &raw,
-			       sizeof(raw));
-	mutex_unlock(&data->lock);
-	if (ret)
-		return ret;
-
-	milli = em7180_score_milli(le16_to_cpu(raw));
-	return sysfs_emit(buf, "%s%d.%03d\n", milli < 0 ? "-" : "",
-			  abs(milli) / 1000, abs(milli) % 1000);
-}
 
 enum em7180_id_attr {
 	EM7180_ID_PRODUCT,
@@ -723,11 +629,16 @@ static ssize_t em7180_id_show(struct device *dev,
 	return sysfs_emit(buf, "0x%0*x\n", width, val);
 }
 
-static IIO_DEVICE_ATTR_RO(in_magn_calibration_auto_status, 0);
-static IIO_DEVICE_ATTR_RO(in_magn_calibration_score, 0);
-static IIO_DEVICE_ATTR_RO(in_magn_transient, 0);
-static IIO_DEVICE_ATTR_RO(in_anglvel_calibration_update, 0);
-static IIO_DEVICE_ATTR_RO(in_magn_calibration_update, 0);
+static IIO_DEVICE_ATTR(in_magn_calibration_auto_status, 0444,
+		       em7180_cal_show, NULL, EM7180_CAL_ATTR_STATUS);
+static IIO_DEVICE_ATTR(in_magn_calibration_score, 0444,
+		       em7180_cal_show, NULL, EM7180_CAL_ATTR_SCORE);
+static IIO_DEVICE_ATTR(in_magn_transient, 0444,
+		       em7180_cal_show, NULL, EM7180_CAL_ATTR_TRANSIENT);
+static IIO_DEVICE_ATTR(in_anglvel_calibration_update_count, 0444,
+		       em7180_cal_show, NULL, EM7180_CAL_ATTR_GYRO_UPDATES);
+static IIO_DEVICE_ATTR(in_magn_calibration_update_count, 0444,
+		       em7180_cal_show, NULL, EM7180_CAL_ATTR_MAG_UPDATES);
 static IIO_DEVICE_ATTR(product_id, 0444, em7180_id_show, NULL,
 		       EM7180_ID_PRODUCT);
 static IIO_DEVICE_ATTR(revision_id, 0444, em7180_id_show, NULL,
@@ -880,8 +791,8 @@ static struct attribute *em7180_attrs[] = {
 	&iio_dev_attr_in_magn_calibration_auto_status.dev_attr.attr,
 	&iio_dev_attr_in_magn_calibration_score.dev_attr.attr,
 	&iio_dev_attr_in_magn_transient.dev_attr.attr,
-	&iio_dev_attr_in_anglvel_calibration_update.dev_attr.attr,
-	&iio_dev_attr_in_magn_calibration_update.dev_attr.attr,
+	&iio_dev_attr_in_anglvel_calibration_update_count.dev_attr.attr,
+	&iio_dev_attr_in_magn_calibration_update_count.dev_attr.attr,
 	&iio_dev_attr_product_id.dev_attr.attr,
 	&iio_dev_attr_revision_id.dev_attr.attr,
 	&iio_dev_attr_rom_version.dev_attr.attr,
@@ -904,6 +815,8 @@ static const struct iio_info em7180_info = {
 	.read_avail = em7180_read_avail,
 	.write_raw = em7180_write_raw,
 	.write_raw_get_fmt = em7180_write_raw_get_fmt,
+	.read_event_config = em7180_read_event_config,
+	.write_event_config = em7180_write_event_config,
 	.attrs = &em7180_attr_group,
 };
 
@@ -1504,6 +1417,10 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		dev_warn(dev, "cannot read the accelerometer offsets: %d\n",
 			 ret);
+
+	ret = em7180_cal_init(indio_dev);
+	if (ret)
+		return ret;
 
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;
