@@ -3,8 +3,9 @@
  * KUnit tests for the EM7180 driver: parameter transfer against an emulated
  * register map on a custom regmap bus (exact bus sequences, batches,
  * acknowledge latency, timeouts, bus errors), float conversions, the
- * calibration score, warm start blob validation and the calibration_data
- * attribute's write path fed with random blobs, sizes and offsets.
+ * calibration score, warm start blob validation, the calibration_data
+ * attribute's write path fed with random blobs, sizes and offsets, and the
+ * calibration update counters and change checks.
  */
 
 #include <kunit/test.h>
@@ -1163,7 +1164,114 @@ static struct kunit_suite em7180_format_suite = {
 	.test_cases = em7180_format_cases,
 };
 
-kunit_test_suites(&em7180_param_suite, &em7180_format_suite);
+/* Registers 0x43..0x4E with CalStatus, the 0x44 flags and the score */
+static void test_cal_block(u8 *regs, u8 status, u8 flags, u16 score)
+{
+	memset(regs, 0, EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS);
+	regs[0] = status;
+	regs[EM7180_REG_CAL_FLAGS - EM7180_REG_CAL_STATUS] = flags;
+	regs[EM7180_REG_CAL_SCORE - EM7180_REG_CAL_STATUS] = score & 0xff;
+	regs[EM7180_REG_CAL_SCORE + 1 - EM7180_REG_CAL_STATUS] = score >> 8;
+}
+
+/*
+ * 0x44 clears when read: each flag read set is one update, counted once
+ * whoever's read found it, and a read that finds it clear counts nothing.
+ */
+static void em7180_test_cal_counters(struct kunit *test)
+{
+	struct em7180_cal cal = { .score = 0xc000 };
+	u8 regs[EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS];
+	unsigned int i;
+
+	test_cal_block(regs, 0, EM7180_CAL_FLAG_GBIAS_UPDATE, 0xc000);
+	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
+			EM7180_CAL_CH_GYRO_UPDATE);
+	test_cal_block(regs, 0, 0, 0xc000);
+	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs), 0U);
+	KUNIT_EXPECT_EQ(test, cal.gyro_updates, 1ULL);
+	KUNIT_EXPECT_EQ(test, cal.mag_updates, 0ULL);
+
+	for (i = 0; i < 1000; i++) {
+		test_cal_block(regs, 0, i & 1 ? EM7180_CAL_FLAG_MAG_UPDATE |
+				EM7180_CAL_FLAG_GBIAS_UPDATE : 0, 0xc000);
+		em7180_cal_update(&cal, regs);
+	}
+	KUNIT_EXPECT_EQ(test, cal.gyro_updates, 501ULL);
+	KUNIT_EXPECT_EQ(test, cal.mag_updates, 500ULL);
+	/* Other bits of 0x44 are not updates */
+	test_cal_block(regs, 0, 0xfc, 0xc000);
+	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs), 0U);
+	KUNIT_EXPECT_EQ(test, cal.mag_updates, 500ULL);
+}
+
+static void em7180_test_cal_changes(struct kunit *test)
+{
+	struct em7180_cal cal = { .score = 0xc000 };
+	u8 regs[EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS];
+
+	test_cal_block(regs, 3, 0, 0xc000);
+	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
+			EM7180_CAL_CH_STATUS);
+	test_cal_block(regs, 3 | 2 << 2, 0, 0xc000);
+	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
+			EM7180_CAL_CH_TRANSIENT);
+	test_cal_block(regs, 3 | 2 << 2, 0, 0x8384);
+	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
+			EM7180_CAL_CH_SCORE);
+	KUNIT_EXPECT_EQ(test, cal.score, 0x8384);
+	test_cal_block(regs, 2, EM7180_CAL_FLAG_MAG_UPDATE, 0x8000);
+	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
+			EM7180_CAL_CH_STATUS | EM7180_CAL_CH_TRANSIENT |
+			EM7180_CAL_CH_SCORE | EM7180_CAL_CH_MAG_UPDATE);
+	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
+			EM7180_CAL_CH_MAG_UPDATE);
+}
+
+/* The change checks: 1 s after a change, doubling to 60 s without one */
+static void em7180_test_cal_period(struct kunit *test)
+{
+	static const unsigned int backoff[] = {
+		2000, 4000, 8000, 16000, 32000, 60000, 60000,
+	};
+	unsigned int i, p = EM7180_CAL_PERIOD_MIN_MS;
+
+	for (i = 0; i < ARRAY_SIZE(backoff); i++) {
+		p = em7180_cal_next_period(p, 0);
+		KUNIT_EXPECT_EQ(test, p, backoff[i]);
+	}
+	/* a still device's gyro bias updates do not keep it checking */
+	KUNIT_EXPECT_EQ(test, em7180_cal_next_period(8000,
+						     EM7180_CAL_CH_GYRO_UPDATE),
+			16000U);
+	KUNIT_EXPECT_EQ(test, em7180_cal_next_period(60000,
+						     EM7180_CAL_CH_SCORE),
+			EM7180_CAL_PERIOD_MIN_MS);
+	KUNIT_EXPECT_EQ(test, em7180_cal_next_period(60000,
+						     EM7180_CAL_CH_MAG_UPDATE),
+			EM7180_CAL_PERIOD_MIN_MS);
+	KUNIT_EXPECT_EQ(test, em7180_cal_next_period(4000,
+						     EM7180_CAL_CH_STATUS),
+			EM7180_CAL_PERIOD_MIN_MS);
+	/* never set: the fastest, at once */
+	KUNIT_EXPECT_EQ(test, em7180_cal_next_period(0, 0),
+			EM7180_CAL_PERIOD_MIN_MS);
+}
+
+static struct kunit_case em7180_cal_cases[] = {
+	KUNIT_CASE(em7180_test_cal_counters),
+	KUNIT_CASE(em7180_test_cal_changes),
+	KUNIT_CASE(em7180_test_cal_period),
+	{ }
+};
+
+static struct kunit_suite em7180_cal_suite = {
+	.name = "em7180_cal",
+	.test_cases = em7180_cal_cases,
+};
+
+kunit_test_suites(&em7180_param_suite, &em7180_format_suite,
+		  &em7180_cal_suite);
 
 MODULE_DESCRIPTION("KUnit tests for the EM7180 driver");
 MODULE_LICENSE("GPL");
