@@ -1,0 +1,88 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# Runs on the HOST: power pulled. Two boots of the UML machine sharing one
+# state directory (tests/uml/run --udev --state DIR):
+#   1. sentral-warmstart watch runs (as sentral-warmstart@.service runs it);
+#      the chip is calibrated by simulated motion and the watcher saves by
+#      itself; then the machine is killed (SIGKILL to the UML processes): no
+#      shutdown, no stop action, no sync;
+#   2. udev restores at probe: in_magn_calibration_auto_status is 3 without
+#      any motion and the chip's blob equals the saved payload.
+# The host script calls itself inside the machine with the boot's name.
+set -u
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+
+MARK="pull the plug now"
+
+if [ "${1:-}" = --inside ]; then
+	. "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
+	DEV=$(em7180_dir)
+	ok "em7180 probed" test -n "$DEV"
+	key=$(sentral-warmstart key)
+	f=$STATE/$key.ws
+	case $2 in
+	first)
+		sentral-warmstart --device "$key" watch >/tmp/watch.log 2>&1 &
+		ok "the watcher runs" wait_for 5 grep -q "^watching" /tmp/watch.log
+		ok "simulated figure-8 until calibrated" calibrate_by_motion
+		ok "the watcher saved by itself" \
+			wait_for 10 grep -q "saved iio:device[0-9]* calibration" /tmp/watch.log
+		sed 's/^/#   watch: /' /tmp/watch.log
+		ok "a valid file" sentral-warmstart show "$f"
+		# No shutdown from here on: the host kills the machine.
+		echo "$MARK"
+		sleep 600
+		;;
+	second)
+		like "restored at probe by udev" "$(dmesg)" \
+			"restored iio:device[0-9]+ calibration from $f"
+		is "in_magn_calibration_auto_status 3 without motion" "$(cal_status)" 3
+		is "motion never set this boot" "$(cat "$SIM_DBG/motion")" 0
+		is "the chip's blob equals the saved payload" \
+			"$(blob_words <"$DEV/calibration_data")" "$(file_payload_words "$f")"
+		done_testing
+		;;
+	esac
+	exit
+fi
+
+kver=${SENTRAL_KVER:-6.12}
+state=$(mktemp -d "${TMPDIR:-/tmp}/sentral-pulled.XXXXXX")
+out=$(mktemp "${TMPDIR:-/tmp}/sentral-pulled-out.XXXXXX")
+trap 'rm -rf "$state" "$out"' EXIT
+chmod 0700 "$state"
+
+# Boot 1 in the background; once it has saved, kill every process of the
+# virtual machine: UML runs in a session and process group of its own,
+# under timeout(1) in tests/uml/run. They are stopped first, so that none
+# can notice another's death and start a shutdown.
+"$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --state "$state" -- \
+	"$SENTRAL_ROOT/tests/e2e/boot-pulledpower.sh" --inside first >"$out" 2>&1 &
+run=$!
+for _ in $(seq 600); do
+	grep -q "^$MARK" "$out" && break
+	kill -0 "$run" 2>/dev/null || break
+	sleep 0.5
+done
+pulled=0
+if grep -q "^$MARK" "$out"; then
+	vm=$(pgrep -P "$(pgrep -P "$run" -x timeout)" -x linux)
+	[ -n "$vm" ] && kill -STOP -- "-$vm" && kill -KILL -- "-$vm" && pulled=1
+fi
+wait "$run"
+sed 's/^/#   /' "$out"
+is "boot 1: calibrated, saved by the watcher, then the power pulled" "$pulled" 1
+ok "boot 1's checks passed before it was killed" grep -q "^ok .* - the watcher saved by itself" "$out"
+nok "and none failed" grep -q "^not ok" "$out"
+nok "boot 1 never shut down" grep -q "reboot: Power down" "$out"
+n=$(ls "$state"/*.ws 2>/dev/null | wc -l)
+is "one saved file on the host" "$n" 1
+nok "no temporary file left" sh -c "ls -A '$state' | grep -q tmp"
+
+boot_out=$("$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --state "$state" -- \
+	"$SENTRAL_ROOT/tests/e2e/boot-pulledpower.sh" --inside second 2>&1)
+rc=$?
+sed 's/^/#   /' <<<"$boot_out"
+is "boot 2: restored at probe" "$rc" 0
+done_testing
