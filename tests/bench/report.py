@@ -263,6 +263,18 @@ def main():
     res["uml_exec_ms"] = m["uml_exec_us"] / 1000
     row("uml_exec_ms (one fork + exec of /bin/true)", res["uml_exec_ms"])
 
+    # sentral-warmstart watch (tests/bench/autosave): flash writes in an
+    # hour of drifting calibration, the bus cost while nothing changes
+    res["autosave.writes_per_hour"] = m["autosave.writes_per_hour"]
+    row("autosave.writes_per_hour (%d drifts, --interval 300)"
+        % m["autosave.drifts"], res["autosave.writes_per_hour"], "<= 12",
+        res["autosave.writes_per_hour"] <= 12)
+    res["autosave.idle_transactions_per_minute"] = round(
+        m["autosave.idle_transactions"] * 60 / m["autosave.idle_seconds"], 2)
+    row("autosave.idle_transactions_per_minute",
+        res["autosave.idle_transactions_per_minute"], "0",
+        res["autosave.idle_transactions_per_minute"] == 0)
+
     # The system suite's figures (tests/system/run, QEMU), from its last run.
     system = os.path.join(os.path.dirname(out), "system.json")
     if os.path.exists(system):
