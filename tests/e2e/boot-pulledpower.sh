@@ -54,9 +54,9 @@ trap 'rm -rf "$state" "$out"' EXIT
 chmod 0700 "$state"
 
 # Boot 1 in the background; once it has saved, kill every process of the
-# virtual machine: UML runs in a session and process group of its own,
-# under timeout(1) in tests/uml/run. They are stopped first, so that none
-# can notice another's death and start a shutdown.
+# virtual machine: the UML kernel, a child of tests/uml/run, makes a
+# session and process group of its own. They are stopped first, so that
+# none can notice another's death and start a shutdown.
 "$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --state "$state" -- \
 	"$SENTRAL_ROOT/tests/e2e/boot-pulledpower.sh" --inside first >"$out" 2>&1 &
 run=$!
@@ -67,7 +67,7 @@ for _ in $(seq 600); do
 done
 pulled=0
 if grep -q "^$MARK" "$out"; then
-	vm=$(pgrep -P "$(pgrep -P "$run" -x timeout)" -x linux)
+	vm=$(pgrep -P "$run" -x linux)
 	[ -n "$vm" ] && kill -STOP -- "-$vm" && kill -KILL -- "-$vm" && pulled=1
 fi
 wait "$run"
