@@ -113,11 +113,15 @@ is "the saving unit wants the restoring one, and does not require it" \
 like "the restore runs at start, fails on a refused file" \
 	"$(grep '^Exec' "$units/sentral-warmstart-restore@.service")" \
 	"^ExecStart=[^-].* restore --if-present$"
+like "the watcher is the saving unit's main process, started again after a failure" \
+	"$(grep -E '^(Type|ExecStart|Restart)=' "$units/sentral-warmstart@.service")" \
+	"^Type=simple"$'\n'"ExecStart=[^-].* watch"$'\n'"Restart=on-failure$"
 like "the save runs at stop and a failure shows (no '-')" \
-	"$(grep '^Exec' "$units/sentral-warmstart@.service")" \
+	"$(grep '^ExecStop' "$units/sentral-warmstart@.service")" \
 	"^ExecStop=[^-].* save --if-present$"
+# The directives; the comments say what each unit's tool needs.
+sandbox() { sed -n '/^StateDirectory=/,$p' "$units/$1" | grep -v '^#' | md5sum; }
 is "both units have the same sandbox" \
-	"$(sed -n '/^StateDirectory=/,$p' "$units/sentral-warmstart@.service" | md5sum)" \
-	"$(sed -n '/^StateDirectory=/,$p' "$units/sentral-warmstart-restore@.service" | md5sum)"
+	"$(sandbox sentral-warmstart@.service)" "$(sandbox sentral-warmstart-restore@.service)"
 
 done_testing
