@@ -79,8 +79,12 @@ knob motion 0
 wait
 c1=$(cat "$M")
 r1=$(dbg_get cal_updates mag_read)
-is "the chip's 10 calibration steps, each a magCalUpdate" $((c1 - c0)) 10
-is "every magCalUpdate flag read is counted" $((c1 - c0)) $((r1 - r0))
+# The chip's 10 calibration steps each latch magCalUpdate; two steps
+# between two reads of 0x44 are one flag read (a loaded machine reads less
+# often), so the count is of the flags the driver read.
+ok "magnetic calibration updates happened while the readers ran ($((c1 - c0)))" \
+	test $((c1 - c0)) -ge 5
+is "every magCalUpdate flag read is counted once" $((c1 - c0)) $((r1 - r0))
 check_readers "magnetic calibration update" "$M" "$c0" "$c1"
 is "calibration complete" "$(cat "$DEV/in_magn_calibration_auto_status")" 3
 
