@@ -11,7 +11,8 @@
  *  - it does not reorder or change argv, and every string it keeps points
  *    into argv (or is the built-in state directory);
  *  - a successful parse is complete: a command (unless --help or
- *    --version), show's FILE, values inside their documented ranges;
+ *    --version), show's FILE, values inside their documented ranges,
+ *    no watch over --i2c;
  *  - a second parse of the same argv gives the same result (getopt's
  *    hidden state is reset);
  *  - a message about an option names the option ("-x", "--name"), not
@@ -50,7 +51,10 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 		return;
 	if (!*o->state_dir || (o->file && !*o->file))
 		abort();
-	if (o->cmd == SW_CMD_NONE || o->cmd > SW_CMD_KEY)
+	if (o->cmd == SW_CMD_NONE || o->cmd > SW_CMD_WATCH)
+		abort();
+	/* nothing would wake a watch over i2c-dev but polling the bus */
+	if (o->cmd == SW_CMD_WATCH && o->i2c_dev)
 		abort();
 	if (o->udev && (o->cmd != SW_CMD_KEY || o->i2c_dev))
 		abort();
@@ -64,7 +68,9 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 	    !(o->target_score >= 0 && o->target_score <= 100))
 		abort();
 	if (o->timeout_s < 1 || o->timeout_s > 86400 ||
-	    o->samples < 1 || o->samples > 10000)
+	    o->samples < 1 || o->samples > 10000 ||
+	    o->interval_s < 1 || o->interval_s > 86400 ||
+	    !(o->margin >= 0 && o->margin <= 100))
 		abort();
 }
 

@@ -111,6 +111,7 @@ static void cli_seeds(void)
 	ARGV("calibrate", "calibrate\0--timeout\0" "60\0--target-score=2.5\0--max-score\0" "5");
 	ARGV("accel-cal", "--state-dir=/tmp/s\0accel-cal\0--samples\0" "128");
 	ARGV("show", "show\0/tmp/x.ws");
+	ARGV("watch", "watch\0--interval\0" "60\0--margin=0.25\0--max-score\0" "4");
 	ARGV("help", "-hV");
 	ARGV("cluster", "-dfoo\0status");
 	ARGV("end-of-options", "show\0--\0--json");
