@@ -15,6 +15,7 @@
 #   make install      install the modules, the tool, its udev rule and unit,
 #                     and the overlay
 #   make deb          Debian packages sentral-warmstart and em7180-dkms in build/deb/
+#                     (DEB_ARCH=arm64: cross-built, in build/deb-arm64/)
 #   make system-check install the packages in a Debian image, boot it under QEMU
 
 KDIR     ?= /lib/modules/$(shell uname -r)/build
@@ -95,13 +96,16 @@ overlay:
 
 # Built from a copy of the source files (tracked or new, not ignored), so
 # that the checkout stays clean; lintian must find nothing to warn about.
+# DEB_ARCH=arm64: cross-built for that architecture into build/deb-arm64/
+# (tests/kernel/cross-deb installs what that needs).
+DEB_OUT = build/deb$(if $(DEB_ARCH),-$(DEB_ARCH))
 deb:
 	tests/system/prepare --deb
-	rm -rf build/deb && mkdir -p build/deb/src
+	rm -rf $(DEB_OUT) && mkdir -p $(DEB_OUT)/src
 	git ls-files -z --cached --others --exclude-standard | \
-		tar -c --null -T - --ignore-failed-read | tar -x -C build/deb/src
-	cd build/deb/src && dpkg-buildpackage -us -uc -b
-	lintian --fail-on error,warning build/deb/*.changes
+		tar -c --null -T - --ignore-failed-read | tar -x -C $(DEB_OUT)/src
+	cd $(DEB_OUT)/src && dpkg-buildpackage $(if $(DEB_ARCH),-a $(DEB_ARCH) -Pcross) -us -uc -b
+	lintian --fail-on error,warning $(DEB_OUT)/*.changes
 
 # The packages installed in a Debian 12 image and booted under QEMU with
 # systemd on the stock 6.1 and 6.12 kernels (builds the packages itself).
