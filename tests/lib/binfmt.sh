@@ -11,7 +11,7 @@
 # system mounted and the handler registered when missing: a host without
 # systemd or binfmt-support running registers nothing at boot).
 binfmt_enable() {
-	local cpu sudo= dir=/proc/sys/fs/binfmt_misc
+	local cpu sudo='' dir=/proc/sys/fs/binfmt_misc
 
 	cpu=$(dpkg-architecture -a "$1" -qDEB_HOST_GNU_CPU 2>/dev/null) || return 1
 	apt_install_missing "/usr/libexec/qemu-binfmt/$cpu-binfmt-P:qemu-user-static"
