@@ -39,8 +39,12 @@ if [ "${1:-}" = --inside ]; then
 			"restored iio:device[0-9]+ calibration from $f"
 		is "in_magn_calibration_auto_status 3 without motion" "$(cal_status)" 3
 		is "motion never set this boot" "$(cat "$SIM_DBG/motion")" 0
-		is "the chip's blob equals the saved payload" \
-			"$(blob_words <"$DEV/calibration_data")" "$(file_payload_words "$f")"
+		# Parameters 33..35 are the gyro bias, which the chip learns
+		# again within gbias_period_ms of standing still: boot 1 saved
+		# while moving, before it had learned one.
+		is "the chip's blob equals the saved payload (but the gyro bias)" \
+			"$(words 1 32 "$(blob_words <"$DEV/calibration_data")")" \
+			"$(words 1 32 "$(file_payload_words "$f")")"
 		done_testing
 		;;
 	esac
