@@ -54,8 +54,8 @@ is "in_magn_transient 2 (bits 3:2)" "$(cat "$DEV/in_magn_transient")" 2
 knob mag_transient 3
 is "in_magn_transient 3" "$(cat "$DEV/in_magn_transient")" 3
 knob mag_transient 0
-like "in_anglvel_calibration_update_count a count" "$(cat "$DEV/in_anglvel_calibration_update_count")" '^[0-9]+$'
-like "in_magn_calibration_update_count a count" "$(cat "$DEV/in_magn_calibration_update_count")" '^[0-9]+$'
+like "in_anglvel_calibration_update a flag" "$(cat "$DEV/in_anglvel_calibration_update")" '^[01]$'
+like "in_magn_calibration_update a flag" "$(cat "$DEV/in_magn_calibration_update")" '^[01]$'
 
 # The identity a saved warm start is checked against, read at probe.
 t=$(dbg_get stats transactions)

@@ -10,12 +10,12 @@
 #define _EM7180_H_
 
 #include <linux/bits.h>
+#include <linux/completion.h>
 #include <linux/iio/iio.h>
 #include <linux/mutex.h>
 #include <linux/pm.h>
 #include <linux/regmap.h>
 #include <linux/types.h>
-#include <linux/workqueue.h>
 
 #define EM7180_REG_QX			0x00	/* float32 x, y, z, w */
 #define EM7180_REG_QTIME		0x10	/* u16 LE, 1/32768 s */
@@ -132,29 +132,21 @@ enum em7180_scan {
  */
 #define EM7180_BURST_LEN		(EM7180_REG_GTIME + 2 - EM7180_REG_QX)
 
-/* Change checks while the magnetometer change event is enabled */
-#define EM7180_CAL_PERIOD_MIN_MS	1000U
-#define EM7180_CAL_PERIOD_MAX_MS	60000U
-
-/* What a read of the calibration block found changed */
-#define EM7180_CAL_CH_STATUS		BIT(0)
-#define EM7180_CAL_CH_SCORE		BIT(1)
-#define EM7180_CAL_CH_TRANSIENT		BIT(2)
-#define EM7180_CAL_CH_GYRO_UPDATE	BIT(3)
-#define EM7180_CAL_CH_MAG_UPDATE	BIT(4)
-
 /**
  * struct em7180_cal - calibration state as last read from the chip
  * @status: register 0x43, CalStatus in bits 1:0, MagTransient in 3:2
  * @score: raw score, 0x4D | 0x4E << 8
- * @gyro_updates: gBiasUpdate flags (0x44 bit 1) read since probe
- * @mag_updates: magCalUpdate flags (0x44 bit 0) read since probe
+ * @flags: update flags of 0x44 read since the warm start was last
+ *	   read or written
+ * @valid: the fields above come from a successful read
+ * @read_at: jiffies of that read
  */
 struct em7180_cal {
 	u8 status;
 	u16 score;
-	u64 gyro_updates;
-	u64 mag_updates;
+	u8 flags;
+	bool valid;
+	unsigned long read_at;
 };
 
 struct iio_trigger;
@@ -171,11 +163,7 @@ struct iio_trigger;
  * @ack_known: @ack_stale holds what ParamAcknowledge reads between transfers
  * @ack_stale: that value: 0, or the echo of the last request served
  * @stop_unacked: the firmware does not echo ParamRequest = 0
- * @cal: calibration state last read, with the update counters
- * @cal_watch: the magnetometer change event is enabled: check for changes
- * @cal_period_ms: period of the change checks, from a minimum after a change
- * @cal_work: the change check
- * @cal_indio_dev: the IIO device, for the change check's reports
+ * @cal: calibration state last read
  * @product_id: ProductID read at probe
  * @revision_id: RevisionID read at probe
  * @rom_version: ROM version, read at probe
@@ -188,6 +176,11 @@ struct iio_trigger;
  * @orientation: mount matrix from firmware
  * @timestamp: time of the last data-ready interrupt, written by the hard handler
  * @scan_ts: time of the interrupt of the scan being captured
+ * @xfer_seq: parameter transfers ended, counted before the algorithm resumes
+ * @irq_seq: @xfer_seq at the last data-ready interrupt
+ * @poll_seq: @xfer_seq at the last poll of another device's trigger
+ * @scan_seq: @irq_seq of the interrupt of the scan being captured
+ * @scan_done: completed after each scan of the data-ready trigger
  * @burst: raw sensor registers of one scan
  * @last_burst: the registers of the scan pushed last
  * @last_start: first register of @last_burst
@@ -206,10 +199,6 @@ struct em7180_data {
 	u8 ack_stale;
 	bool stop_unacked;
 	struct em7180_cal cal;
-	bool cal_watch;
-	unsigned int cal_period_ms;
-	struct delayed_work cal_work;
-	struct iio_dev *cal_indio_dev;
 	u8 product_id;
 	u8 revision_id;
 	u16 rom_version;
@@ -222,6 +211,11 @@ struct em7180_data {
 	struct iio_mount_matrix orientation;
 	s64 timestamp;
 	s64 scan_ts;
+	unsigned int xfer_seq;
+	unsigned int irq_seq;
+	unsigned int poll_seq;
+	unsigned int scan_seq;
+	struct completion scan_done;
 	u8 burst[EM7180_BURST_LEN];
 	u8 last_burst[EM7180_BURST_LEN];
 	unsigned int last_start;
@@ -263,24 +257,14 @@ enum em7180_cal_attr {
 	EM7180_CAL_ATTR_STATUS,
 	EM7180_CAL_ATTR_SCORE,
 	EM7180_CAL_ATTR_TRANSIENT,
-	EM7180_CAL_ATTR_GYRO_UPDATES,
-	EM7180_CAL_ATTR_MAG_UPDATES,
+	EM7180_CAL_ATTR_GYRO_UPDATE,
+	EM7180_CAL_ATTR_MAG_UPDATE,
 };
 
 ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 			char *buf);
-extern const struct iio_event_spec em7180_magn_event;
-int em7180_cal_init(struct iio_dev *indio_dev);
-int em7180_read_event_config(struct iio_dev *indio_dev,
-			     const struct iio_chan_spec *chan,
-			     enum iio_event_type type,
-			     enum iio_event_direction dir);
-int em7180_write_event_config(struct iio_dev *indio_dev,
-			      const struct iio_chan_spec *chan,
-			      enum iio_event_type type,
-			      enum iio_event_direction dir, int state);
-unsigned int em7180_cal_update(struct em7180_cal *cal, const u8 *regs);
-unsigned int em7180_cal_next_period(unsigned int period_ms,
-				    unsigned int changed);
+void em7180_cal_update(struct em7180_cal *cal, const u8 *regs);
+int em7180_cal_sync(struct em7180_data *data);
+void em7180_cal_saved(struct em7180_data *data);
 
 #endif /* _EM7180_H_ */

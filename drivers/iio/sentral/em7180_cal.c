@@ -1,33 +1,29 @@
 // SPDX-License-Identifier: GPL-2.0-only
 /*
- * PNI SENtral / EM7180: calibration state and its change reports
+ * PNI SENtral / EM7180: calibration state
  *
  * Registers 0x43 (CalStatus, MagTransient), 0x44 (update flags) and
- * 0x4D/0x4E (score) are read together in one 12-byte burst. The two flags
- * of 0x44 latch an update each and the firmware may clear them when they
- * are read, so they are folded into counters that only grow: whoever
- * triggers a read, every reader sees every update through the counters.
+ * 0x4D/0x4E (score) are read in one 12-byte burst. The chip raises no
+ * interrupt when they change: userspace polls the attributes. A burst
+ * serves every attribute read within EM7180_CAL_MAX_AGE_MS of it, as hwmon
+ * drivers cache their readings, so that a reader of all five costs one bus
+ * transaction and sees status and score from the same read.
  *
- * The chip has no interrupt for calibration events, so the driver reads
- * the block only when asked: at each read of a calibration attribute, and
- * while userspace has the magnetometer change event enabled, from a work
- * item whose period starts at EM7180_CAL_PERIOD_MIN_MS after a change and
- * doubles up to EM7180_CAL_PERIOD_MAX_MS while nothing changes. Each read
- * that finds a change notifies pollers of the attributes that changed and
- * pushes the change event. Nothing reads the chip when no one asks.
+ * The two flags of 0x44 latch an update each and clear when read. The
+ * driver keeps them set until the warm start is next read or written: a
+ * flag then says "the chip learned something since the calibration was
+ * last saved or restored", whoever read the registers and how often.
  */
 
 #include <linux/bitfield.h>
 #include <linux/bits.h>
 #include <linux/device.h>
-#include <linux/kernel.h>
-#include <linux/minmax.h>
+#include <linux/jiffies.h>
+#include <linux/math.h>
 #include <linux/mutex.h>
 #include <linux/regmap.h>
 #include <linux/sysfs.h>
-#include <linux/workqueue.h>
 
-#include <linux/iio/events.h>
 #include <linux/iio/iio.h>
 #include <linux/iio/sysfs.h>
 
@@ -37,156 +33,92 @@
 #include "em7180_compat.h"
 
 #define EM7180_CAL_BLOCK_LEN	(EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS)
-
-/* What a change of the magnetic calibration is reported for */
-#define EM7180_CAL_CH_MAGN_EVENT	(EM7180_CAL_CH_STATUS | \
-					 EM7180_CAL_CH_SCORE | \
-					 EM7180_CAL_CH_MAG_UPDATE)
+#define EM7180_CAL_MAX_AGE_MS	500
 
 /**
  * em7180_cal_update() - fold one read of the calibration block into @cal
  * @cal: the state last read
  * @regs: registers 0x43..0x4E as read in one burst
- *
- * Return: the EM7180_CAL_CH_* bits of what changed.
  */
-unsigned int em7180_cal_update(struct em7180_cal *cal, const u8 *regs)
+void em7180_cal_update(struct em7180_cal *cal, const u8 *regs)
 {
-	u8 status = regs[0];
 	u8 flags = regs[EM7180_REG_CAL_FLAGS - EM7180_REG_CAL_STATUS];
-	u16 score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE -
-					     EM7180_REG_CAL_STATUS]);
-	unsigned int changed = 0;
 
-	if ((status ^ cal->status) & EM7180_CAL_STATUS_MASK)
-		changed |= EM7180_CAL_CH_STATUS;
-	if ((status ^ cal->status) & EM7180_CAL_MAG_TRANSIENT_MASK)
-		changed |= EM7180_CAL_CH_TRANSIENT;
-	if (score != cal->score)
-		changed |= EM7180_CAL_CH_SCORE;
-	if (flags & EM7180_CAL_FLAG_GBIAS_UPDATE) {
-		cal->gyro_updates++;
-		changed |= EM7180_CAL_CH_GYRO_UPDATE;
-	}
-	if (flags & EM7180_CAL_FLAG_MAG_UPDATE) {
-		cal->mag_updates++;
-		changed |= EM7180_CAL_CH_MAG_UPDATE;
-	}
-	cal->status = status;
-	cal->score = score;
-
-	return changed;
+	cal->status = regs[0];
+	cal->score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE -
+					      EM7180_REG_CAL_STATUS]);
+	cal->flags |= flags & (EM7180_CAL_FLAG_MAG_UPDATE |
+			       EM7180_CAL_FLAG_GBIAS_UPDATE);
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_update);
 
-/**
- * em7180_cal_next_period() - period of the change check after a check
- * @period_ms: the period that led to this check
- * @changed: EM7180_CAL_CH_* bits the check found
- *
- * A change of the magnetic calibration brings the period down to its
- * minimum; otherwise it doubles up to the maximum. Gyroscope bias updates,
- * which come every few seconds while the device is still, do not count:
- * they would keep a still device at the fastest rate.
- *
- * Return: the next period in ms.
+/*
+ * Read the block unless @fresh allows the last read, younger than
+ * EM7180_CAL_MAX_AGE_MS; a failed read leaves nothing to serve later.
  */
-unsigned int em7180_cal_next_period(unsigned int period_ms,
-				    unsigned int changed)
-{
-	if (changed & (EM7180_CAL_CH_MAGN_EVENT | EM7180_CAL_CH_TRANSIENT))
-		return EM7180_CAL_PERIOD_MIN_MS;
-
-	return clamp(period_ms * 2, EM7180_CAL_PERIOD_MIN_MS,
-		     EM7180_CAL_PERIOD_MAX_MS);
-}
-EXPORT_SYMBOL_IF_KUNIT(em7180_cal_next_period);
-
-/* One burst read of the block; @changed gets what differs from the last */
-static int em7180_cal_refresh(struct em7180_data *data, unsigned int *changed)
+static int em7180_cal_refresh(struct em7180_data *data, bool fresh)
 {
 	u8 regs[EM7180_CAL_BLOCK_LEN];
 	int ret;
 
 	lockdep_assert_held(&data->lock);
 
+	if (!fresh && data->cal.valid &&
+	    time_before(jiffies, data->cal.read_at +
+			msecs_to_jiffies(EM7180_CAL_MAX_AGE_MS)))
+		return 0;
+
 	ret = regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, regs,
 			       sizeof(regs));
+	data->cal.valid = !ret;
 	if (ret)
 		return ret;
 
-	*changed = em7180_cal_update(&data->cal, regs);
+	em7180_cal_update(&data->cal, regs);
+	data->cal.read_at = jiffies;
 	return 0;
 }
 
-static void em7180_cal_notify(struct iio_dev *indio_dev, unsigned int changed)
-{
-	struct em7180_data *data = iio_priv(indio_dev);
-	struct kobject *kobj = &indio_dev->dev.kobj;
-
-	if (changed & EM7180_CAL_CH_STATUS)
-		sysfs_notify(kobj, NULL, "in_magn_calibration_auto_status");
-	if (changed & EM7180_CAL_CH_SCORE)
-		sysfs_notify(kobj, NULL, "in_magn_calibration_score");
-	if (changed & EM7180_CAL_CH_TRANSIENT)
-		sysfs_notify(kobj, NULL, "in_magn_transient");
-	if (changed & EM7180_CAL_CH_GYRO_UPDATE)
-		sysfs_notify(kobj, NULL, "in_anglvel_calibration_update_count");
-	if (changed & EM7180_CAL_CH_MAG_UPDATE)
-		sysfs_notify(kobj, NULL, "in_magn_calibration_update_count");
-
-	if ((changed & EM7180_CAL_CH_MAGN_EVENT) && READ_ONCE(data->cal_watch))
-		iio_push_event(indio_dev,
-			       IIO_UNMOD_EVENT_CODE(IIO_MAGN, 0,
-						    IIO_EV_TYPE_CHANGE,
-						    IIO_EV_DIR_NONE),
-			       iio_get_time_ns(indio_dev));
-}
-
-static void em7180_cal_work(struct work_struct *work)
-{
-	struct em7180_data *data = container_of(to_delayed_work(work),
-						struct em7180_data, cal_work);
-	struct iio_dev *indio_dev = data->cal_indio_dev;
-	unsigned int changed = 0;
-	int ret;
-
-	mutex_lock(&data->lock);
-	ret = em7180_cal_refresh(data, &changed);
-	/* After a bus error, look again as soon as after a change */
-	data->cal_period_ms = ret ? EM7180_CAL_PERIOD_MIN_MS :
-			      em7180_cal_next_period(data->cal_period_ms,
-						     changed);
-	if (data->cal_watch)
-		queue_delayed_work(system_freezable_wq, &data->cal_work,
-				   msecs_to_jiffies(data->cal_period_ms));
-	mutex_unlock(&data->lock);
-
-	if (!ret)
-		em7180_cal_notify(indio_dev, changed);
-}
-
-/*
- * The calibration attributes: each value comes from a fresh read of the
- * chip, which also updates the counters every other reader sees.
+/**
+ * em7180_cal_sync() - take in the flags the chip holds, before a transfer
+ * @data: driver state, with @data->lock held
+ *
+ * The chip latches an update until 0x44 is read: one latched before a
+ * warm start transfer belongs to the state the transfer saves or replaces,
+ * and must not show after it. em7180_cal_saved() then clears the flags.
+ *
+ * Return: 0 or the bus error.
  */
+int em7180_cal_sync(struct em7180_data *data)
+{
+	return em7180_cal_refresh(data, true);
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_cal_sync);
+
+/**
+ * em7180_cal_saved() - the warm start was read or written: no update since
+ * @data: driver state, with @data->lock held
+ */
+void em7180_cal_saved(struct em7180_data *data)
+{
+	lockdep_assert_held(&data->lock);
+	data->cal.flags = 0;
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_cal_saved);
+
 ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 			char *buf)
 {
-	struct iio_dev *indio_dev = dev_to_iio_dev(dev);
-	struct em7180_data *data = iio_priv(indio_dev);
-	unsigned int changed = 0;
+	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
 	struct em7180_cal cal;
 	int ret, milli;
 
-	mutex_lock(&data->lock);
-	ret = em7180_cal_refresh(data, &changed);
-	cal = data->cal;
-	mutex_unlock(&data->lock);
+	scoped_guard(mutex, &data->lock) {
+		ret = em7180_cal_refresh(data, false);
+		cal = data->cal;
+	}
 	if (ret)
 		return ret;
-
-	em7180_cal_notify(indio_dev, changed);
 
 	switch (to_iio_dev_attr(attr)->address) {
 	case EM7180_CAL_ATTR_STATUS:
@@ -200,76 +132,11 @@ ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 		return sysfs_emit(buf, "%lu\n",
 				  FIELD_GET(EM7180_CAL_MAG_TRANSIENT_MASK,
 					    cal.status));
-	case EM7180_CAL_ATTR_GYRO_UPDATES:
-		return sysfs_emit(buf, "%llu\n", cal.gyro_updates);
+	case EM7180_CAL_ATTR_GYRO_UPDATE:
+		return sysfs_emit(buf, "%d\n",
+				  !!(cal.flags & EM7180_CAL_FLAG_GBIAS_UPDATE));
 	default:
-		return sysfs_emit(buf, "%llu\n", cal.mag_updates);
+		return sysfs_emit(buf, "%d\n",
+				  !!(cal.flags & EM7180_CAL_FLAG_MAG_UPDATE));
 	}
-}
-
-const struct iio_event_spec em7180_magn_event = {
-	.type = IIO_EV_TYPE_CHANGE,
-	.dir = IIO_EV_DIR_NONE,
-	.mask_shared_by_type = BIT(IIO_EV_INFO_ENABLE),
-};
-
-int em7180_read_event_config(struct iio_dev *indio_dev,
-			     const struct iio_chan_spec *chan,
-			     enum iio_event_type type,
-			     enum iio_event_direction dir)
-{
-	struct em7180_data *data = iio_priv(indio_dev);
-
-	return READ_ONCE(data->cal_watch);
-}
-
-/*
- * Enabling starts the change checks at once, at the fastest period:
- * whoever enables them wants to hear soon.
- */
-int em7180_write_event_config(struct iio_dev *indio_dev,
-			      const struct iio_chan_spec *chan,
-			      enum iio_event_type type,
-			      enum iio_event_direction dir, int state)
-{
-	struct em7180_data *data = iio_priv(indio_dev);
-
-	mutex_lock(&data->lock);
-	WRITE_ONCE(data->cal_watch, !!state);
-	if (state) {
-		data->cal_period_ms = EM7180_CAL_PERIOD_MIN_MS;
-		mod_delayed_work(system_freezable_wq, &data->cal_work, 0);
-	}
-	mutex_unlock(&data->lock);
-
-	/* The work requeues itself only while enabled */
-	if (!state)
-		cancel_delayed_work_sync(&data->cal_work);
-
-	return 0;
-}
-
-static void em7180_cal_stop(void *arg)
-{
-	struct em7180_data *data = arg;
-
-	WRITE_ONCE(data->cal_watch, false);
-	cancel_delayed_work_sync(&data->cal_work);
-}
-
-/**
- * em7180_cal_init() - set up the change checks of a device being probed
- * @indio_dev: the IIO device
- *
- * Return: 0 or a negative error code.
- */
-int em7180_cal_init(struct iio_dev *indio_dev)
-{
-	struct em7180_data *data = iio_priv(indio_dev);
-
-	data->cal_indio_dev = indio_dev;
-	data->cal_period_ms = EM7180_CAL_PERIOD_MIN_MS;
-	INIT_DELAYED_WORK(&data->cal_work, em7180_cal_work);
-
-	return devm_add_action_or_reset(data->dev, em7180_cal_stop, data);
 }

@@ -169,6 +169,9 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 	for (i = 0; i < val_size; i++)
 		((u8 *)val_buf)[i] = emu->regs[(u8)(reg + i)];
 	emu_log(emu, false, reg, val_buf, val_size);
+	/* The update flags latch until read */
+	if (reg <= EM7180_REG_CAL_FLAGS && reg + val_size > EM7180_REG_CAL_FLAGS)
+		emu->regs[EM7180_REG_CAL_FLAGS] = 0;
 
 	return 0;
 }
@@ -1174,99 +1177,66 @@ static void test_cal_block(u8 *regs, u8 status, u8 flags, u16 score)
 	regs[EM7180_REG_CAL_SCORE + 1 - EM7180_REG_CAL_STATUS] = score >> 8;
 }
 
-/*
- * 0x44 clears when read: each flag read set is one update, counted once
- * whoever's read found it, and a read that finds it clear counts nothing.
- */
-static void em7180_test_cal_counters(struct kunit *test)
-{
-	struct em7180_cal cal = { .score = 0xc000 };
-	u8 regs[EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS];
-	unsigned int i;
-
-	test_cal_block(regs, 0, EM7180_CAL_FLAG_GBIAS_UPDATE, 0xc000);
-	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
-			EM7180_CAL_CH_GYRO_UPDATE);
-	test_cal_block(regs, 0, 0, 0xc000);
-	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs), 0U);
-	KUNIT_EXPECT_EQ(test, cal.gyro_updates, 1ULL);
-	KUNIT_EXPECT_EQ(test, cal.mag_updates, 0ULL);
-
-	for (i = 0; i < 1000; i++) {
-		test_cal_block(regs, 0, i & 1 ? EM7180_CAL_FLAG_MAG_UPDATE |
-				EM7180_CAL_FLAG_GBIAS_UPDATE : 0, 0xc000);
-		em7180_cal_update(&cal, regs);
-	}
-	KUNIT_EXPECT_EQ(test, cal.gyro_updates, 501ULL);
-	KUNIT_EXPECT_EQ(test, cal.mag_updates, 500ULL);
-	/* Other bits of 0x44 are not updates */
-	test_cal_block(regs, 0, 0xfc, 0xc000);
-	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs), 0U);
-	KUNIT_EXPECT_EQ(test, cal.mag_updates, 500ULL);
-}
-
-static void em7180_test_cal_changes(struct kunit *test)
+/* A read folds the update flags in; other bits of 0x44 are no updates */
+static void em7180_test_cal_fold(struct kunit *test)
 {
 	struct em7180_cal cal = { .score = 0xc000 };
 	u8 regs[EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS];
 
-	test_cal_block(regs, 3, 0, 0xc000);
-	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
-			EM7180_CAL_CH_STATUS);
-	test_cal_block(regs, 3 | 2 << 2, 0, 0xc000);
-	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
-			EM7180_CAL_CH_TRANSIENT);
-	test_cal_block(regs, 3 | 2 << 2, 0, 0x8384);
-	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
-			EM7180_CAL_CH_SCORE);
+	test_cal_block(regs, 3 | 2 << 2, EM7180_CAL_FLAG_GBIAS_UPDATE, 0x8384);
+	em7180_cal_update(&cal, regs);
+	KUNIT_EXPECT_EQ(test, cal.status, 3 | 2 << 2);
 	KUNIT_EXPECT_EQ(test, cal.score, 0x8384);
-	test_cal_block(regs, 2, EM7180_CAL_FLAG_MAG_UPDATE, 0x8000);
-	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
-			EM7180_CAL_CH_STATUS | EM7180_CAL_CH_TRANSIENT |
-			EM7180_CAL_CH_SCORE | EM7180_CAL_CH_MAG_UPDATE);
-	KUNIT_EXPECT_EQ(test, em7180_cal_update(&cal, regs),
-			EM7180_CAL_CH_MAG_UPDATE);
+	KUNIT_EXPECT_EQ(test, cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE);
+	/* cleared on the chip by that read: the flag stays */
+	test_cal_block(regs, 2, 0, 0x8000);
+	em7180_cal_update(&cal, regs);
+	KUNIT_EXPECT_EQ(test, cal.status, 2);
+	KUNIT_EXPECT_EQ(test, cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE);
+	test_cal_block(regs, 2, 0xfc | EM7180_CAL_FLAG_MAG_UPDATE, 0x8000);
+	em7180_cal_update(&cal, regs);
+	KUNIT_EXPECT_EQ(test, cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE |
+			EM7180_CAL_FLAG_MAG_UPDATE);
 }
 
-/* The change checks: 1 s after a change, doubling to 60 s without one */
-static void em7180_test_cal_period(struct kunit *test)
+/*
+ * The flags stay set, however often the chip is read, until the warm start
+ * is read or written; one the chip latched before that is taken in first.
+ */
+static void em7180_test_cal_flags_until_saved(struct kunit *test)
 {
-	static const unsigned int backoff[] = {
-		2000, 4000, 8000, 16000, 32000, 60000, 60000,
-	};
-	unsigned int i, p = EM7180_CAL_PERIOD_MIN_MS;
+	struct em7180_test *t = test->priv;
+	struct em7180_data *data = &t->data;
 
-	for (i = 0; i < ARRAY_SIZE(backoff); i++) {
-		p = em7180_cal_next_period(p, 0);
-		KUNIT_EXPECT_EQ(test, p, backoff[i]);
-	}
-	/* a still device's gyro bias updates do not keep it checking */
-	KUNIT_EXPECT_EQ(test, em7180_cal_next_period(8000,
-						     EM7180_CAL_CH_GYRO_UPDATE),
-			16000U);
-	KUNIT_EXPECT_EQ(test, em7180_cal_next_period(60000,
-						     EM7180_CAL_CH_SCORE),
-			EM7180_CAL_PERIOD_MIN_MS);
-	KUNIT_EXPECT_EQ(test, em7180_cal_next_period(60000,
-						     EM7180_CAL_CH_MAG_UPDATE),
-			EM7180_CAL_PERIOD_MIN_MS);
-	KUNIT_EXPECT_EQ(test, em7180_cal_next_period(4000,
-						     EM7180_CAL_CH_STATUS),
-			EM7180_CAL_PERIOD_MIN_MS);
-	/* never set: the fastest, at once */
-	KUNIT_EXPECT_EQ(test, em7180_cal_next_period(0, 0),
-			EM7180_CAL_PERIOD_MIN_MS);
+	guard(mutex)(&data->lock);
+	t->emu.regs[EM7180_REG_CAL_FLAGS] = EM7180_CAL_FLAG_MAG_UPDATE;
+	KUNIT_ASSERT_EQ(test, em7180_cal_sync(data), 0);
+	KUNIT_EXPECT_EQ(test, t->emu.regs[EM7180_REG_CAL_FLAGS], 0);
+	KUNIT_ASSERT_EQ(test, em7180_cal_sync(data), 0);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, EM7180_CAL_FLAG_MAG_UPDATE);
+
+	/* latched on the chip, unread, before a save: not an update since */
+	t->emu.regs[EM7180_REG_CAL_FLAGS] = EM7180_CAL_FLAG_GBIAS_UPDATE;
+	KUNIT_ASSERT_EQ(test, em7180_cal_sync(data), 0);
+	em7180_cal_saved(data);
+	KUNIT_ASSERT_EQ(test, em7180_cal_sync(data), 0);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, 0);
+
+	t->emu.nack_at = t->emu.transactions + 1;
+	KUNIT_EXPECT_EQ(test, em7180_cal_sync(data), -EIO);
+	KUNIT_EXPECT_FALSE(test, data->cal.valid);
 }
 
 static struct kunit_case em7180_cal_cases[] = {
-	KUNIT_CASE(em7180_test_cal_counters),
-	KUNIT_CASE(em7180_test_cal_changes),
-	KUNIT_CASE(em7180_test_cal_period),
+	KUNIT_CASE(em7180_test_cal_fold),
+	KUNIT_CASE(em7180_test_cal_flags_until_saved),
 	{ }
 };
 
 static struct kunit_suite em7180_cal_suite = {
 	.name = "em7180_cal",
+	.init = em7180_test_init,
+	.exit = em7180_test_exit,
 	.test_cases = em7180_cal_cases,
 };
 

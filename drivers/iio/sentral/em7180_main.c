@@ -54,6 +54,8 @@
 
 /* Attempts at the EventStatus read that releases the INT line */
 #define EM7180_EVENT_READ_TRIES		3
+/* Longest scan period: the magnetometer's slowest rate, 1 Hz */
+#define EM7180_SCAN_WAIT_MS		1100
 
 static const struct regmap_range em7180_readable_ranges[] = {
 	regmap_reg_range(EM7180_REG_QX, EM7180_REG_ERROR),
@@ -152,7 +154,7 @@ static const struct iio_chan_spec_ext_info em7180_ext_info[] = {
 	{ }
 };
 
-#define EM7180_VEC_CHANNEL_EV(_type, _axis, _reg, _index, _sep, _ev, _nev) \
+#define EM7180_VEC_CHANNEL(_type, _axis, _reg, _index, _sep)		\
 {									\
 	.type = _type,							\
 	.modified = 1,							\
@@ -171,17 +173,7 @@ static const struct iio_chan_spec_ext_info em7180_ext_info[] = {
 		.endianness = IIO_LE,					\
 	},								\
 	.ext_info = em7180_ext_info,					\
-	.event_spec = _ev,						\
-	.num_event_specs = _nev,					\
 }
-
-#define EM7180_VEC_CHANNEL(_type, _axis, _reg, _index, _sep)		\
-	EM7180_VEC_CHANNEL_EV(_type, _axis, _reg, _index, _sep, NULL, 0)
-
-/* Magnetometer axes: also the calibration change event */
-#define EM7180_MAGN_CHANNEL(_axis, _reg, _index)			\
-	EM7180_VEC_CHANNEL_EV(IIO_MAGN, _axis, _reg, _index, 0,		\
-			      &em7180_magn_event, 1)
 
 static const struct iio_chan_spec em7180_channels[] = {
 	{
@@ -200,9 +192,9 @@ static const struct iio_chan_spec em7180_channels[] = {
 			.repeat = 4,
 		},
 	},
-	EM7180_MAGN_CHANNEL(X, EM7180_REG_MX, EM7180_SCAN_MAGN_X),
-	EM7180_MAGN_CHANNEL(Y, EM7180_REG_MX + 2, EM7180_SCAN_MAGN_Y),
-	EM7180_MAGN_CHANNEL(Z, EM7180_REG_MX + 4, EM7180_SCAN_MAGN_Z),
+	EM7180_VEC_CHANNEL(IIO_MAGN, X, EM7180_REG_MX, EM7180_SCAN_MAGN_X, 0),
+	EM7180_VEC_CHANNEL(IIO_MAGN, Y, EM7180_REG_MX + 2, EM7180_SCAN_MAGN_Y, 0),
+	EM7180_VEC_CHANNEL(IIO_MAGN, Z, EM7180_REG_MX + 4, EM7180_SCAN_MAGN_Z, 0),
 	EM7180_VEC_CHANNEL(IIO_ACCEL, X, EM7180_REG_AX, EM7180_SCAN_ACCEL_X,
 			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
 	EM7180_VEC_CHANNEL(IIO_ACCEL, Y, EM7180_REG_AX + 2, EM7180_SCAN_ACCEL_Y,
@@ -635,10 +627,10 @@ static IIO_DEVICE_ATTR(in_magn_calibration_score, 0444,
 		       em7180_cal_show, NULL, EM7180_CAL_ATTR_SCORE);
 static IIO_DEVICE_ATTR(in_magn_transient, 0444,
 		       em7180_cal_show, NULL, EM7180_CAL_ATTR_TRANSIENT);
-static IIO_DEVICE_ATTR(in_anglvel_calibration_update_count, 0444,
-		       em7180_cal_show, NULL, EM7180_CAL_ATTR_GYRO_UPDATES);
-static IIO_DEVICE_ATTR(in_magn_calibration_update_count, 0444,
-		       em7180_cal_show, NULL, EM7180_CAL_ATTR_MAG_UPDATES);
+static IIO_DEVICE_ATTR(in_anglvel_calibration_update, 0444,
+		       em7180_cal_show, NULL, EM7180_CAL_ATTR_GYRO_UPDATE);
+static IIO_DEVICE_ATTR(in_magn_calibration_update, 0444,
+		       em7180_cal_show, NULL, EM7180_CAL_ATTR_MAG_UPDATE);
 static IIO_DEVICE_ATTR(product_id, 0444, em7180_id_show, NULL,
 		       EM7180_ID_PRODUCT);
 static IIO_DEVICE_ATTR(revision_id, 0444, em7180_id_show, NULL,
@@ -681,6 +673,31 @@ int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_check);
 
+/*
+ * While the data-ready trigger paces a capture, a transfer waits for the
+ * next scan: the algorithm pauses for the transfer (no samples, no
+ * interrupts), so no sample from before the pause is left unread and the
+ * gap in the stream is the transfer plus at most one period. A stream
+ * that brings no scan within the slowest period (1 s) is not waited for.
+ */
+static int em7180_wait_scan(struct em7180_data *data)
+{
+	long ret;
+
+	if (!READ_ONCE(data->pace_event))
+		return 0;
+
+	reinit_completion(&data->scan_done);
+	ret = wait_for_completion_killable_timeout(&data->scan_done,
+						   msecs_to_jiffies(EM7180_SCAN_WAIT_MS));
+
+	return ret < 0 ? ret : 0;
+}
+
+/*
+ * Reads work while a buffer is enabled, so that an application streaming
+ * all day never blocks a save: the transfer runs between two scans.
+ */
 static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 				     struct bin_attribute *attr, char *buf,
 				     loff_t off, size_t count)
@@ -698,27 +715,27 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 	if (ret)
 		return ret;
 
-	ret = iio_device_claim_direct_mode(indio_dev);
+	ret = em7180_wait_scan(data);
 	if (ret)
 		return ret;
 
-	mutex_lock(&data->lock);
-	ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM,
-				 EM7180_WS_NUM_PARAMS, vals);
-	if (!ret) {
-		for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
-			put_unaligned_le32(vals[i], &buf[4 * i]);
-		data->ws_valid = !em7180_warmstart_check(buf, 0,
-							 EM7180_WS_SIZE, true);
-		if (data->ws_valid)
-			memcpy(data->ws, buf, EM7180_WS_SIZE);
-		em7180_accel_offset_set(data, vals);
-	}
-	mutex_unlock(&data->lock);
+	guard(mutex)(&data->lock);
+	ret = em7180_cal_sync(data);
+	if (!ret)
+		ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM,
+					 EM7180_WS_NUM_PARAMS, vals);
+	if (ret)
+		return ret;
 
-	iio_device_release_direct_mode(indio_dev);
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		put_unaligned_le32(vals[i], &buf[4 * i]);
+	data->ws_valid = !em7180_warmstart_check(buf, 0, EM7180_WS_SIZE, true);
+	if (data->ws_valid)
+		memcpy(data->ws, buf, EM7180_WS_SIZE);
+	em7180_accel_offset_set(data, vals);
+	em7180_cal_saved(data);
 
-	return ret ?: EM7180_WS_SIZE;
+	return EM7180_WS_SIZE;
 }
 
 /**
@@ -730,6 +747,10 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
  *
  * The write path of the calibration_data attribute. Anything but 35 finite floats
  * at offset 0 is refused before the chip is touched.
+ *
+ * Refused while a buffer is enabled: restoring replaces the state the
+ * fusion algorithm is tracking with, which belongs before the sensors start
+ * (at probe, by udev), not under a running capture.
  *
  * Return: 0, -EINVAL for a bad blob, size or offset, -EBUSY while a buffer
  * is enabled, or the error of the parameter transfer.
@@ -754,12 +775,15 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 		return ret;
 
 	mutex_lock(&data->lock);
-	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
-				  EM7180_WS_NUM_PARAMS, vals);
+	ret = em7180_cal_sync(data);
+	if (!ret)
+		ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
+					  EM7180_WS_NUM_PARAMS, vals);
 	if (!ret) {
 		memcpy(data->ws, buf, EM7180_WS_SIZE);
 		data->ws_valid = true;
 		em7180_accel_offset_set(data, vals);
+		em7180_cal_saved(data);
 	} else {
 		/* Some parameters may have been written before the error */
 		em7180_accel_offset_refresh(data, ret);
@@ -791,8 +815,8 @@ static struct attribute *em7180_attrs[] = {
 	&iio_dev_attr_in_magn_calibration_auto_status.dev_attr.attr,
 	&iio_dev_attr_in_magn_calibration_score.dev_attr.attr,
 	&iio_dev_attr_in_magn_transient.dev_attr.attr,
-	&iio_dev_attr_in_anglvel_calibration_update_count.dev_attr.attr,
-	&iio_dev_attr_in_magn_calibration_update_count.dev_attr.attr,
+	&iio_dev_attr_in_anglvel_calibration_update.dev_attr.attr,
+	&iio_dev_attr_in_magn_calibration_update.dev_attr.attr,
 	&iio_dev_attr_product_id.dev_attr.attr,
 	&iio_dev_attr_revision_id.dev_attr.attr,
 	&iio_dev_attr_rom_version.dev_attr.attr,
@@ -815,8 +839,6 @@ static const struct iio_info em7180_info = {
 	.read_avail = em7180_read_avail,
 	.write_raw = em7180_write_raw,
 	.write_raw_get_fmt = em7180_write_raw_get_fmt,
-	.read_event_config = em7180_read_event_config,
-	.write_event_config = em7180_write_event_config,
 	.attrs = &em7180_attr_group,
 };
 
@@ -845,6 +867,11 @@ static unsigned int em7180_burst_end(const struct iio_chan_spec *hi)
  * last sensor it covers, so unchanged registers mean the same samples: with
  * the chip's own trigger such a scan is not pushed twice. Any other trigger
  * samples whatever the chip holds.
+ *
+ * A parameter transfer that ended after the interrupt or trigger poll of
+ * this scan held it up while the algorithm paused and ran again: the
+ * registers may now hold a sample newer than the scan's timestamp, so
+ * nothing is pushed (em7180_wait_scan() makes that rare).
  */
 static irqreturn_t em7180_trigger_handler(int irq, void *p)
 {
@@ -858,6 +885,7 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 	 * take the poll function's time, which nothing set on this path.
 	 */
 	bool own = data->trig && indio_dev->trig == data->trig;
+	unsigned int seq = own ? data->scan_seq : READ_ONCE(data->poll_seq);
 	const struct iio_chan_spec *lo, *hi;
 	unsigned int bit, start, len, pos = 0;
 	s64 ts = pf->timestamp;
@@ -879,6 +907,10 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 		len = em7180_burst_end(hi) - start;
 
 		mutex_lock(&data->lock);
+		if (seq != data->xfer_seq) {
+			mutex_unlock(&data->lock);
+			goto done;
+		}
 		ret = regmap_bulk_read(data->regmap, start, data->burst, len);
 		if (!ret && own) {
 			again = data->last_len == len &&
@@ -910,8 +942,21 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 	iio_push_to_buffers_with_timestamp(indio_dev, data->scan, ts);
 
 done:
+	if (own)
+		complete_all(&data->scan_done);
 	iio_trigger_notify_done(indio_dev->trig);
 	return IRQ_HANDLED;
+}
+
+/* Another device's trigger: its poll time, and which transfers it follows */
+static irqreturn_t em7180_pollfunc_store(int irq, void *p)
+{
+	struct iio_poll_func *pf = p;
+	struct em7180_data *data = iio_priv(pf->indio_dev);
+
+	pf->timestamp = iio_get_time_ns(pf->indio_dev);
+	WRITE_ONCE(data->poll_seq, READ_ONCE(data->xfer_seq));
+	return IRQ_WAKE_THREAD;
 }
 
 static irqreturn_t em7180_irq_handler(int irq, void *p)
@@ -920,6 +965,7 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
 	struct em7180_data *data = iio_priv(indio_dev);
 
 	WRITE_ONCE(data->timestamp, iio_get_time_ns(indio_dev));
+	WRITE_ONCE(data->irq_seq, READ_ONCE(data->xfer_seq));
 	return IRQ_WAKE_THREAD;
 }
 
@@ -943,6 +989,7 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	struct iio_dev *indio_dev = p;
 	struct em7180_data *data = iio_priv(indio_dev);
 	s64 ts = READ_ONCE(data->timestamp);
+	unsigned int seq = READ_ONCE(data->irq_seq);
 	unsigned int status, err = 0;
 	int ret, err_ret = 0, tries = EM7180_EVENT_READ_TRIES;
 
@@ -973,6 +1020,7 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	    !(status & EM7180_EVENT_CPU_RESET)) {
 		/* The trigger handler runs nested, in this thread */
 		data->scan_ts = ts;
+		data->scan_seq = seq;
 		em7180_trigger_poll_nested(data->trig);
 	}
 
@@ -1035,7 +1083,8 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 	int ret, tries = EM7180_EVENT_READ_TRIES;
 
 	mutex_lock(&data->lock);
-	data->pace_event = state && mask ? em7180_pace_event(data, mask) : 0;
+	WRITE_ONCE(data->pace_event,
+		   state && mask ? em7180_pace_event(data, mask) : 0);
 	events |= data->pace_event;
 	/* A new capture: nothing pushed yet that a scan could repeat */
 	data->last_len = 0;
@@ -1373,6 +1422,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	data->regmap = regmap;
 	data->irq = max(irq, 0);
 	mutex_init(&data->lock);
+	init_completion(&data->scan_done);
 	em7180_param_init(data);
 	dev_set_drvdata(dev, indio_dev);
 
@@ -1418,10 +1468,6 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 		dev_warn(dev, "cannot read the accelerometer offsets: %d\n",
 			 ret);
 
-	ret = em7180_cal_init(indio_dev);
-	if (ret)
-		return ret;
-
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;
 	indio_dev->channels = em7180_channels;
@@ -1435,7 +1481,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	}
 
 	ret = devm_iio_triggered_buffer_setup(dev, indio_dev,
-					      iio_pollfunc_store_time,
+					      em7180_pollfunc_store,
 					      em7180_trigger_handler, NULL);
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to set up buffer\n");

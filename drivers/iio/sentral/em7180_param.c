@@ -327,6 +327,12 @@ static int em7180_param_end(struct em7180_data *data, bool clean, u8 last)
 		data->ack_known = true;
 	}
 
+	/*
+	 * A data-ready interrupt from before this point may find newer data
+	 * than it announced once the algorithm runs again: its scan is not
+	 * pushed (em7180_trigger_handler()).
+	 */
+	WRITE_ONCE(data->xfer_seq, data->xfer_seq + 1);
 	ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
 	if (ret2)
 		ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
