@@ -32,17 +32,6 @@ struct sw_backend_ops {
 				struct sw_err *e);
 	int (*accel_offset_set)(struct sw_backend *b, const int lsb[3],
 				struct sw_err *e);
-	/*
-	 * Watching, NULL where nothing can wake the tool (i2c-dev): begin
-	 * asks the driver to report changes of the calibration state; wait
-	 * sleeps until it reports one (*changed = true), timeout_ms passes
-	 * (-1: no limit) or SIGINT, SIGTERM or SIGHUP arrives
-	 * (sw_signal_pending()); end stops the reports.
-	 */
-	int (*watch_begin)(struct sw_backend *b, struct sw_err *e);
-	int (*watch_wait)(struct sw_backend *b, int timeout_ms, bool *changed,
-			  struct sw_err *e);
-	void (*watch_end)(struct sw_backend *b);
 	void (*close)(struct sw_backend *b);
 };
 
@@ -63,6 +52,15 @@ struct sw_iio_opts {
 	/* No matching device is a success with *out = NULL (save --if-present). */
 	bool gone_ok;
 };
+
+/*
+ * A failed access to attribute attr of the IIO device name, errno err, as
+ * an exit code and a message saying what to do: the device gone (ENODEV,
+ * or dir_gone: its sysfs directory vanished) is SW_EXIT_DEVICE, and so is
+ * a missing attribute (an older driver); EBUSY names the buffer to stop.
+ */
+int sw_iio_err(struct sw_err *e, const char *name, const char *op,
+	       const char *attr, int err, bool dir_gone);
 
 int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 		struct sw_err *e);

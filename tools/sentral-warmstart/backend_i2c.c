@@ -31,7 +31,9 @@
 #define REG_ACCEL	0x1a
 #define REG_PARAM_ACK	0x3a
 #define REG_CAL_STATUS	0x43
-#define REG_CAL_SCORE	0x4d
+/* 0x43 status, 0x44 update flags ... 0x4D-0x4E score: one burst */
+#define CAL_BLOCK_LEN	12
+#define CAL_SCORE_OFF	(0x4d - REG_CAL_STATUS)
 #define REG_ALGO_CTRL	0x54
 #define ALGO_PARAM_PROC	0x80
 #define REG_LOAD_PARAM	0x60
@@ -54,8 +56,6 @@ struct i2c_be {
 	unsigned int addr;
 	/* Acknowledge latency seen so far: the first poll waits about that. */
 	long ack_us;
-	/* 0x44 clears when read: the updates this process has seen */
-	uint64_t gyro_updates, mag_updates;
 };
 
 static uint64_t now_us(void)
@@ -286,26 +286,26 @@ static int i2c_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
 	return SW_EXIT_OK;
 }
 
+/*
+ * Status, update flags and score in one burst: they describe one moment,
+ * and 0x44 clears when read, so it is read exactly once.
+ */
 static int i2c_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 			 struct sw_err *e)
 {
 	struct i2c_be *ib = to_i2c(b);
-	uint8_t st[2], sc[2];
+	uint8_t r[CAL_BLOCK_LEN];
 
 	/* Polling loops (calibrate) end here after a signal. */
 	if (sw_signal_pending())
 		return interrupted(ib, e);
-	if (i2c_bus_read(ib->fd, ib->addr, REG_CAL_STATUS, st, 2) < 0)
+	if (i2c_bus_read(ib->fd, ib->addr, REG_CAL_STATUS, r, sizeof(r)) < 0)
 		return bus_err(ib, "reading", REG_CAL_STATUS, e);
-	if (i2c_bus_read(ib->fd, ib->addr, REG_CAL_SCORE, sc, 2) < 0)
-		return bus_err(ib, "reading", REG_CAL_SCORE, e);
-	cs->status = st[0] & 3;
-	cs->mag_transient = (st[0] >> 2) & 3;
-	ib->mag_updates += st[1] & 1;
-	ib->gyro_updates += (st[1] >> 1) & 1;
-	cs->mag_cal_updates = ib->mag_updates;
-	cs->gyro_bias_updates = ib->gyro_updates;
-	cs->score_raw = sw_get_le16(sc);
+	cs->status = r[0] & 3;
+	cs->mag_transient = (r[0] >> 2) & 3;
+	cs->mag_cal_update = r[1] & 1;
+	cs->gyro_bias_update = (r[1] >> 1) & 1;
+	cs->score_raw = sw_get_le16(r + CAL_SCORE_OFF);
 	return SW_EXIT_OK;
 }
 

@@ -12,8 +12,6 @@
 #include <iio.h>
 #include <libudev.h>
 #include <limits.h>
-#include <poll.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -22,26 +20,12 @@
 
 #define IIO_SYSFS "/sys/bus/iio/devices"
 
-/* The driver checks the chip while this is 1 and notifies what changed. */
-#define WATCH_ENABLE "events/in_magn_change_en"
-
-/* What the save policy looks at; the gyro bias counter would wake for nothing. */
-static const char *const watched[] = {
-	"in_magn_calibration_auto_status",
-	"in_magn_calibration_score",
-	"in_magn_calibration_update_count",
-};
-
-#define NWATCHED (sizeof(watched) / sizeof(watched[0]))
-
 struct iio_be {
 	struct sw_backend b;
 	char dir[PATH_MAX];	/* /sys/bus/iio/devices/iio:deviceN */
 	char parent[64];	/* the I2C client, e.g. "0-0028" */
 	double magn_ut;		/* in_magn_scale in uT per LSB, 0: not read yet */
 	char id_path[256];	/* udev's ID_PATH, "" when none */
-	int watch_fd[NWATCHED];	/* -1 when not watching */
-	sigset_t watch_mask;	/* the mask to sleep with */
 };
 
 /* Copy with truncation; the callers' buffers are far larger than the data. */
@@ -76,6 +60,14 @@ static int read_text(const char *path, char *buf, size_t len)
 	return 0;
 }
 
+/* A failed access: the device may have gone (unbound, unplugged). */
+static int attr_err(struct iio_be *ib, const char *op, const char *attr,
+		    int err, struct sw_err *e)
+{
+	return sw_iio_err(e, ib->b.name, op, attr, err,
+			  access(ib->dir, F_OK) < 0 && errno == ENOENT);
+}
+
 static int attr_read(struct iio_be *ib, const char *attr, char *buf,
 		     size_t len, struct sw_err *e)
 {
@@ -83,8 +75,7 @@ static int attr_read(struct iio_be *ib, const char *attr, char *buf,
 
 	snprintf(path, sizeof(path), "%s/%s", ib->dir, attr);
 	if (read_text(path, buf, len) < 0)
-		return sw_err_set(e, SW_EXIT_IO, "%s: cannot read %s: %s",
-				  ib->b.name, attr, strerror(errno));
+		return attr_err(ib, "reading", attr, errno, e);
 	return SW_EXIT_OK;
 }
 
@@ -107,25 +98,6 @@ static int attr_read_int(struct iio_be *ib, const char *attr, int *val,
 	return SW_EXIT_OK;
 }
 
-static int attr_read_u64(struct iio_be *ib, const char *attr, uint64_t *val,
-			 struct sw_err *e)
-{
-	unsigned long long v;
-	char buf[64], *end;
-	int ret;
-
-	ret = attr_read(ib, attr, buf, sizeof(buf), e);
-	if (ret)
-		return ret;
-	errno = 0;
-	v = strtoull(buf, &end, 10);
-	if (errno || end == buf || *end || buf[0] == '-')
-		return sw_err_set(e, SW_EXIT_IO, "%s: %s: unexpected value \"%s\"",
-				  ib->b.name, attr, buf);
-	*val = v;
-	return SW_EXIT_OK;
-}
-
 static int attr_write_int(struct iio_be *ib, const char *attr, int val,
 			  struct sw_err *e)
 {
@@ -137,15 +109,13 @@ static int attr_write_int(struct iio_be *ib, const char *attr, int val,
 	len = snprintf(buf, sizeof(buf), "%d\n", val);
 	fd = open(path, O_WRONLY | O_CLOEXEC);
 	if (fd < 0)
-		return sw_err_set(e, SW_EXIT_IO, "%s: cannot open %s: %s",
-				  ib->b.name, attr, strerror(errno));
+		return attr_err(ib, "opening", attr, errno, e);
 	n = write(fd, buf, (size_t)len);
 	if (n != len) {
 		int err = n < 0 ? errno : EIO;
 
 		close(fd);
-		return sw_err_set(e, SW_EXIT_IO, "%s: writing %d to %s: %s",
-				  ib->b.name, val, attr, strerror(err));
+		return attr_err(ib, "writing to", attr, err, e);
 	}
 	close(fd);
 	return SW_EXIT_OK;
@@ -195,25 +165,56 @@ static int iio_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
 	return SW_EXIT_OK;
 }
 
+/* A flag attribute: "0" or "1". */
+static int attr_read_flag(struct iio_be *ib, const char *attr, int *val,
+			  struct sw_err *e)
+{
+	int ret = attr_read_int(ib, attr, val, e);
+
+	if (!ret && *val != 0 && *val != 1)
+		return sw_err_set(e, SW_EXIT_IO, "%s: %s: unexpected value %d",
+				  ib->b.name, attr, *val);
+	return ret;
+}
+
+/* Tries at a status and a score from one chip read. */
+#define CAL_STATE_TRIES 3
+
+/*
+ * The driver serves these five attributes from one burst read of the chip
+ * (0x43..0x4E) for 500 ms: read back to back they cost one bus
+ * transaction. A new burst may fall between two of them: the status read
+ * again last tells, and then they are all read again.
+ */
 static int iio_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 			 struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
+	int again, ret, tries;
 	char buf[64];
-	int ret;
 
-	ret = attr_read_int(ib, "in_magn_calibration_auto_status", &cs->status,
-			    e);
-	ret = ret ? ret : attr_read_int(ib, "in_magn_transient",
-					&cs->mag_transient, e);
-	ret = ret ? ret : attr_read_u64(ib, "in_anglvel_calibration_update_count",
-					&cs->gyro_bias_updates, e);
-	ret = ret ? ret : attr_read_u64(ib, "in_magn_calibration_update_count",
-					&cs->mag_cal_updates, e);
-	ret = ret ? ret : attr_read(ib, "in_magn_calibration_score", buf,
-				    sizeof(buf), e);
-	if (ret)
-		return ret;
+	for (tries = 1;; tries++) {
+		ret = attr_read_int(ib, "in_magn_calibration_auto_status",
+				    &cs->status, e);
+		ret = ret ? ret : attr_read(ib, "in_magn_calibration_score",
+					    buf, sizeof(buf), e);
+		ret = ret ? ret : attr_read_int(ib, "in_magn_transient",
+						&cs->mag_transient, e);
+		ret = ret ? ret : attr_read_flag(ib, "in_anglvel_calibration_update",
+						 &cs->gyro_bias_update, e);
+		ret = ret ? ret : attr_read_flag(ib, "in_magn_calibration_update",
+						 &cs->mag_cal_update, e);
+		ret = ret ? ret : attr_read_int(ib, "in_magn_calibration_auto_status",
+						&again, e);
+		if (ret)
+			return ret;
+		if (again == cs->status)
+			break;
+		if (tries == CAL_STATE_TRIES)
+			return sw_err_set(e, SW_EXIT_IO,
+					  "%s: in_magn_calibration_auto_status changed at each of %d reads",
+					  b->name, tries);
+	}
 	/* 3 decimals resolve the 100/32768 % steps: the raw value is exact. */
 	if (!sw_parse_score(buf, &cs->score_raw))
 		return sw_err_set(e, SW_EXIT_IO,
@@ -225,16 +226,7 @@ static int iio_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 static int blob_err(struct iio_be *ib, const char *op, int err,
 		    struct sw_err *e)
 {
-	const char *hint = "";
-
-	if (err == EBUSY)
-		hint = " (buffered capture is running; stop it first)";
-	else if (err == ETIMEDOUT)
-		hint = " (the chip did not acknowledge a parameter)";
-	else if (err == EINVAL)
-		hint = " (the driver refused the blob)";
-	return sw_err_set(e, SW_EXIT_IO, "%s: %s calibration_data: %s%s",
-			  ib->b.name, op, strerror(err), hint);
+	return attr_err(ib, op, "calibration_data", err, e);
 }
 
 static int iio_read_blob(struct sw_backend *b, uint8_t *blob,
@@ -355,118 +347,8 @@ static int iio_accel_offset_set(struct sw_backend *b, const int lsb[3],
 	return SW_EXIT_OK;
 }
 
-/*
- * sysfs wakes a poller of an attribute the driver notified (POLLPRI |
- * POLLERR) until it reads the attribute again from the start.
- */
-static void watch_rearm(struct iio_be *ib, unsigned int i)
-{
-	char buf[64];
-
-	if (pread(ib->watch_fd[i], buf, sizeof(buf), 0) < 0)
-		buf[0] = '\0';	/* the next cal_state read reports it */
-}
-
-static void iio_watch_end(struct sw_backend *b)
-{
-	struct iio_be *ib = to_iio(b);
-	struct sw_err ignored;
-	unsigned int i;
-
-	if (ib->watch_fd[0] < 0)
-		return;
-	for (i = 0; i < NWATCHED; i++) {
-		close(ib->watch_fd[i]);
-		ib->watch_fd[i] = -1;
-	}
-	sw_err_clear(&ignored);
-	attr_write_int(ib, WATCH_ENABLE, 0, &ignored);
-	sigprocmask(SIG_SETMASK, &ib->watch_mask, NULL);
-}
-
-static int iio_watch_begin(struct sw_backend *b, struct sw_err *e)
-{
-	struct iio_be *ib = to_iio(b);
-	char path[PATH_MAX + 64];
-	sigset_t block;
-	unsigned int i;
-	int ret;
-
-	/*
-	 * The signals that end the watch are blocked except while asleep in
-	 * ppoll(), so that one arriving just before it still wakes it.
-	 */
-	sigemptyset(&block);
-	sigaddset(&block, SIGINT);
-	sigaddset(&block, SIGTERM);
-	sigaddset(&block, SIGHUP);
-	sigprocmask(SIG_BLOCK, &block, &ib->watch_mask);
-	for (i = 0; i < NWATCHED; i++) {
-		snprintf(path, sizeof(path), "%s/%s", ib->dir, watched[i]);
-		ib->watch_fd[i] = open(path, O_RDONLY | O_CLOEXEC);
-		if (ib->watch_fd[i] < 0) {
-			ret = sw_err_set(e, SW_EXIT_DEVICE,
-					 "%s: cannot open %s: %s (a driver without change notification?)",
-					 b->name, watched[i], strerror(errno));
-			goto fail;
-		}
-		watch_rearm(ib, i);
-	}
-	ret = attr_write_int(ib, WATCH_ENABLE, 1, e);
-	if (!ret)
-		return SW_EXIT_OK;
-fail:
-	while (i--)
-		close(ib->watch_fd[i]);
-	for (i = 0; i < NWATCHED; i++)
-		ib->watch_fd[i] = -1;
-	sigprocmask(SIG_SETMASK, &ib->watch_mask, NULL);
-	return ret;
-}
-
-static int iio_watch_wait(struct sw_backend *b, int timeout_ms, bool *changed,
-			  struct sw_err *e)
-{
-	struct iio_be *ib = to_iio(b);
-	struct timespec ts, *tsp = NULL;
-	struct pollfd pfd[NWATCHED];
-	unsigned int i;
-	int n;
-
-	*changed = false;
-	if (sw_signal_pending())
-		return SW_EXIT_OK;
-	for (i = 0; i < NWATCHED; i++) {
-		pfd[i].fd = ib->watch_fd[i];
-		pfd[i].events = POLLPRI;
-		pfd[i].revents = 0;
-	}
-	if (timeout_ms >= 0) {
-		ts.tv_sec = timeout_ms / 1000;
-		ts.tv_nsec = (long)(timeout_ms % 1000) * 1000000L;
-		tsp = &ts;
-	}
-	n = ppoll(pfd, NWATCHED, tsp, &ib->watch_mask);
-	if (n < 0 && errno == EINTR)
-		return SW_EXIT_OK;
-	if (n < 0)
-		return sw_err_set(e, SW_EXIT_IO, "%s: waiting for the driver: %s",
-				  b->name, strerror(errno));
-	for (i = 0; i < NWATCHED; i++) {
-		if (!pfd[i].revents)
-			continue;
-		if (pfd[i].revents & POLLNVAL)
-			return sw_err_set(e, SW_EXIT_IO, "%s: %s went away",
-					  b->name, watched[i]);
-		watch_rearm(ib, i);
-		*changed = true;
-	}
-	return SW_EXIT_OK;
-}
-
 static void iio_close(struct sw_backend *b)
 {
-	iio_watch_end(b);
 	free(to_iio(b));
 }
 
@@ -479,9 +361,6 @@ static const struct sw_backend_ops iio_ops = {
 	.accel_raw = iio_accel_raw,
 	.accel_offset_get = iio_accel_offset_get,
 	.accel_offset_set = iio_accel_offset_set,
-	.watch_begin = iio_watch_begin,
-	.watch_wait = iio_watch_wait,
-	.watch_end = iio_watch_end,
 	.close = iio_close,
 };
 
@@ -594,7 +473,7 @@ int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 	struct iio_context *ctx;
 	struct udev *u;
 	char list[512] = "";
-	unsigned int i, n, w, matches = 0;
+	unsigned int i, n, matches = 0;
 	int ret = SW_EXIT_OK;
 
 	*out = NULL;
@@ -627,8 +506,6 @@ int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 		}
 		cand->b.ops = &iio_ops;
 		cand->b.kind = "driver";
-		for (w = 0; w < NWATCHED; w++)
-			cand->watch_fd[w] = -1;
 		snprintf(cand->b.name, sizeof(cand->b.name), "%s", id);
 		snprintf(cand->dir, sizeof(cand->dir), IIO_SYSFS "/%s", id);
 		ret = device_key(u, cand, e);

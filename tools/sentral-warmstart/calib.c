@@ -131,26 +131,31 @@ static void print_line(struct cal_run *r, uint64_t now)
 	fflush(r->out);
 }
 
-/* Step 1: the gyro bias is learned while the device is still. */
+/*
+ * Step 1: the gyro bias is learned while the device is still. The update
+ * flag may be 1 from any time before: a read of the blob clears the
+ * driver's (until then it stays 1, so the first look may be skipped
+ * without losing an update), and over i2c-dev that first look at 0x44
+ * clears it. A later look that reads 1 is an update made since.
+ */
 static int wait_gyro_bias(struct sw_backend *b, struct cal_run *r,
 			  struct sw_err *e)
 {
 	struct sw_env *env = r->env;
-	uint64_t before = 0;
+	uint8_t blob[SW_BLOB_SIZE];
 	bool first = true;
 	int ret;
 
 	sw_note(env, "Step 1/2: keep the device still while the gyro bias is learned...");
-	/* An update counted before the first look may be from any time. */
-	for (;;) {
+	ret = b->ops->read_blob(b, blob, e);
+	if (ret)
+		return ret;
+	for (;; first = false) {
 		ret = b->ops->cal_state(b, &r->cs, e);
 		if (ret)
 			return ret;
-		if (first)
-			before = r->cs.gyro_bias_updates;
-		else if (r->cs.gyro_bias_updates != before)
+		if (!first && r->cs.gyro_bias_update == 1)
 			break;
-		first = false;
 		if (env->now_ms(env->clk) >= r->deadline)
 			return sw_err_set(e, SW_EXIT_CAL,
 					  "gyro bias not learned within %u s: keep the device still and retry",
@@ -165,10 +170,19 @@ static int wait_gyro_bias(struct sw_backend *b, struct cal_run *r,
 static int poll_chip(struct sw_backend *b, struct cal_run *r,
 		     uint8_t *best_blob, struct sw_err *e)
 {
-	int ret = b->ops->cal_state(b, &r->cs, e);
+	struct sw_cal_state cs;
+	char why[128];
+	int ret = b->ops->cal_state(b, &cs, e);
 
 	if (ret)
 		return ret;
+	/*
+	 * A glitched read (a score below 0 %, a status out of range) would
+	 * look better than any calibration: skipped, the next look decides.
+	 */
+	if (!sw_cal_state_check(&cs, why, sizeof(why)))
+		return SW_EXIT_OK;
+	r->cs = cs;
 	if (r->cs.status == 3 &&
 	    (!r->have_best || r->cs.score_raw < r->best.score_raw)) {
 		/*
@@ -401,8 +415,11 @@ int sw_cmd_accel_cal(struct sw_backend *b, const struct sw_opts *o,
 					  after.mean[0], after.mean[1],
 					  after.mean[2], SW_ACCEL_1G_LSB);
 	}
-	sw_note(env, "accel offsets %d %d %d LSB written and verified; output now %.1f %.1f %.1f LSB. Run 'save' to keep them.",
+	sw_note(env, "accel offsets %d %d %d LSB written and verified; output now %.1f %.1f %.1f LSB%s",
 		off[0], off[1], off[2], after.mean[0], after.mean[1],
-		after.mean[2]);
-	return SW_EXIT_OK;
+		after.mean[2], o->no_save ? ". Run 'save' to keep them." : "");
+	if (o->no_save)
+		return SW_EXIT_OK;
+	/* The save policy keeps offsets that differ from the saved file's. */
+	return sw_save_now(b, o, env, NULL, e);
 }

@@ -29,6 +29,9 @@ enum {
 	OPT_UDEV,
 	OPT_INTERVAL,
 	OPT_MARGIN,
+	OPT_POLL,
+	OPT_NO_SAVE,
+	OPT_LAST = OPT_NO_SAVE,
 };
 
 static const struct option long_opts[] = {
@@ -47,6 +50,8 @@ static const struct option long_opts[] = {
 	{ "udev", no_argument, NULL, OPT_UDEV },
 	{ "interval", required_argument, NULL, OPT_INTERVAL },
 	{ "margin", required_argument, NULL, OPT_MARGIN },
+	{ "poll", required_argument, NULL, OPT_POLL },
+	{ "no-save", no_argument, NULL, OPT_NO_SAVE },
 	{ "help", no_argument, NULL, OPT_HELP },
 	{ "version", no_argument, NULL, OPT_VERSION },
 	{ NULL, 0, NULL, 0 },
@@ -82,12 +87,15 @@ void sw_usage(FILE *f)
 	      "  calibrate [--timeout SEC] [--target-score S] [--max-score S] [--file F] [--force]\n"
 	      "            [--json]              guided magnetic calibration with a map of the\n"
 	      "                                  directions covered, then save\n"
-	      "  accel-cal [--samples N]         one-point accelerometer calibration (Z down)\n"
+	      "  accel-cal [--samples N] [--no-save] [--file F]\n"
+	      "                                  one-point accelerometer calibration (Z down),\n"
+	      "                                  then save the offsets\n"
 	      "  show FILE                       decode and check a saved file\n"
 	      "  key [--udev]                    print the chip's key (names its file and units)\n"
-	      "  watch [--interval SEC] [--margin M] [--max-score S] [--file F]\n"
+	      "  watch [--poll SEC] [--interval SEC] [--margin M] [--max-score S] [--file F]\n"
 	      "                                  stay running and save whenever the calibration\n"
-	      "                                  becomes good enough and better than the saved one\n"
+	      "                                  becomes good enough and better than the saved one,\n"
+	      "                                  or the accel offsets change\n"
 	      "\n"
 	      "Options:\n"
 	      "  -d, --device NAME     em7180 IIO device: iio:deviceN, label, I2C client name\n"
@@ -106,6 +114,9 @@ void sw_usage(FILE *f)
 	      "      --target-score S  calibrate: stop at this score (default 3.0)\n"
 	      "      --timeout SEC     calibrate: give up after SEC seconds (default 120)\n"
 	      "      --samples N       accel-cal: samples to average (default 64)\n"
+	      "      --no-save         accel-cal: leave the offsets unsaved\n"
+	      "      --poll SEC        watch: read the calibration state every SEC seconds,\n"
+	      "                        1 to 3600 (default 30)\n"
 	      "      --interval SEC    watch: at most one write every SEC seconds (default 300)\n"
 	      "      --margin M        watch: replace a good saved calibration only with a\n"
 	      "                        score at least M points lower (default 0.5)\n"
@@ -114,7 +125,7 @@ void sw_usage(FILE *f)
 	      "\n"
 	      "Exit status (sysexits.h; the save policy saying no is a success):\n"
 	      "  0 success   64 usage error   65 saved file refused by a check\n"
-	      "  66 saved file missing   69 no, several or unusable device\n"
+	      "  66 saved file missing   69 no, several, unusable or (watch) vanished device\n"
 	      "  71 out of memory   72 state directory missing   74 I/O or bus error\n"
 	      "  75 calibration incomplete, timed out or unverified\n"
 	      "  77 refused: owner, mode or symbolic link of a file or directory\n"
@@ -216,12 +227,16 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 		{ OPT_FILE, "--file", 1u << SW_CMD_SAVE | 1u << SW_CMD_RESTORE |
 					1u << SW_CMD_CALIBRATE |
 					1u << SW_CMD_STATUS |
-					1u << SW_CMD_WATCH },
+					1u << SW_CMD_WATCH |
+					1u << SW_CMD_ACCEL_CAL },
 		{ OPT_MAX_SCORE, "--max-score", 1u << SW_CMD_SAVE |
 						  1u << SW_CMD_CALIBRATE |
-						  1u << SW_CMD_WATCH },
+						  1u << SW_CMD_WATCH |
+						  1u << SW_CMD_ACCEL_CAL },
 		{ OPT_INTERVAL, "--interval", 1u << SW_CMD_WATCH },
 		{ OPT_MARGIN, "--margin", 1u << SW_CMD_WATCH },
+		{ OPT_POLL, "--poll", 1u << SW_CMD_WATCH },
+		{ OPT_NO_SAVE, "--no-save", 1u << SW_CMD_ACCEL_CAL },
 		{ OPT_TARGET_SCORE, "--target-score", 1u << SW_CMD_CALIBRATE },
 		{ OPT_TIMEOUT, "--timeout", 1u << SW_CMD_CALIBRATE },
 		{ OPT_SAMPLES, "--samples", 1u << SW_CMD_ACCEL_CAL },
@@ -270,7 +285,7 @@ static int operand(const char *arg, struct sw_opts *o, const char **show_file,
 
 int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 {
-	bool seen[OPT_MARGIN + 1] = { false };
+	bool seen[OPT_LAST + 1] = { false };
 	const char *show_file = NULL;
 	int c, next, ret;
 
@@ -283,6 +298,7 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 	o->samples = 64;
 	o->interval_s = SW_DEFAULT_INTERVAL_S;
 	o->margin = SW_DEFAULT_MARGIN;
+	o->poll_s = SW_DEFAULT_POLL_S;
 
 	/* Re-initialise getopt: the parser may run more than once (tests). */
 	optind = 0;
@@ -316,7 +332,7 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 				return ret;
 			continue;
 		}
-		if (c > 0 && c <= OPT_MARGIN)
+		if (c > 0 && c <= OPT_LAST)
 			seen[c] = true;
 		ret = SW_EXIT_OK;
 		switch (c) {
@@ -372,6 +388,13 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 			ret = parse_double("--margin", optarg, 0, 100,
 					   &o->margin, e);
 			break;
+		case OPT_POLL:
+			ret = parse_uint("--poll", optarg, 1, 3600, &o->poll_s,
+					 e);
+			break;
+		case OPT_NO_SAVE:
+			o->no_save = true;
+			break;
 		case OPT_HELP:
 			o->help = true;
 			break;
@@ -408,7 +431,7 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 		return sw_err_set(e, SW_EXIT_USAGE, "--state-dir is empty");
 	if (o->cmd == SW_CMD_WATCH && o->i2c_dev)
 		return sw_err_set(e, SW_EXIT_USAGE,
-				  "watch needs the em7180 driver: over --i2c nothing would wake it but polling the bus");
+				  "watch needs the em7180 driver: over --i2c each look at the accel offsets would be a parameter transfer, which pauses the chip's algorithm");
 	if (o->udev && o->i2c_dev)
 		return sw_err_set(e, SW_EXIT_USAGE,
 				  "key --udev names an IIO device, not an --i2c one");

@@ -4,6 +4,8 @@
  */
 #include <errno.h>
 #include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -36,6 +38,26 @@ static void real_sleep_ms(void *clk, unsigned int ms)
 		;
 }
 
+/*
+ * The three signals are blocked but while asleep in ppoll(), so that one
+ * that comes just before the sleep still ends it.
+ */
+static void real_nap_ms(void *clk, unsigned int ms)
+{
+	struct timespec ts = { ms / 1000, (long)(ms % 1000) * 1000000L };
+	sigset_t block, old;
+
+	(void)clk;
+	sigemptyset(&block);
+	sigaddset(&block, SIGINT);
+	sigaddset(&block, SIGTERM);
+	sigaddset(&block, SIGHUP);
+	sigprocmask(SIG_BLOCK, &block, &old);
+	if (!sw_signal_pending())
+		ppoll(NULL, 0, &ts, &old);
+	sigprocmask(SIG_SETMASK, &old, NULL);
+}
+
 static uint64_t real_wall_s(void *clk)
 {
 	(void)clk;
@@ -49,6 +71,7 @@ void sw_env_init(struct sw_env *env, FILE *out, FILE *err)
 	env->err = err;
 	env->now_ms = real_now_ms;
 	env->sleep_ms = real_sleep_ms;
+	env->nap_ms = real_nap_ms;
 	env->wall_s = real_wall_s;
 }
 
@@ -215,41 +238,83 @@ static void migrate_legacy(const struct sw_backend *b, const struct sw_opts *o,
 	}
 }
 
+/* The accel offsets of a blob (parameters 27..29) in LSB. */
+static void blob_offsets(const uint8_t *blob, int lsb[3])
+{
+	int k;
+
+	for (k = 0; k < 3; k++)
+		lsb[k] = sw_g_to_lsb(sw_blob_param(blob, SW_PARAM_ACCEL_X + k));
+}
+
+/*
+ * See struct sw_policy_in. Zero is what a chip holds from power-on until a
+ * restore: a chip that was not restored must not overwrite saved offsets.
+ */
+static bool offsets_differ(const int chip[3], bool have_old,
+			   const struct sw_file *old)
+{
+	static const int zero[3];
+	int file[3];
+
+	if (!memcmp(chip, zero, sizeof(zero)))
+		return false;
+	if (!have_old)
+		return true;
+	blob_offsets(old->payload, file);
+	return memcmp(chip, file, sizeof(file)) != 0;
+}
+
 /*
  * The policy's answer for a calibration state, against the file at path
- * it would replace. chip receives the chip's identity, oldwhy why an
+ * it would replace. The chip's accel offsets come from blob, or when it is
+ * NULL from the driver's copy (no transfer). chip receives the chip's
+ * identity, old the file (when *what is SW_SAVE_OFFSETS), oldwhy why an
  * existing file is unusable ("" when it is fine or missing).
  */
 static int policy_for(struct sw_backend *b, const struct sw_opts *o,
-		      const struct sw_cal_state *cs, struct sw_chip_info *chip,
-		      const char *path, bool *yes, char *why, size_t why_len,
-		      char *oldwhy, size_t oldwhy_len, struct sw_err *e)
+		      const struct sw_cal_state *cs, const uint8_t *blob,
+		      struct sw_chip_info *chip, const char *path,
+		      struct sw_file *old, enum sw_save_what *what, char *why,
+		      size_t why_len, char *oldwhy, size_t oldwhy_len,
+		      struct sw_err *e)
 {
 	struct sw_policy_in pin = { 0 };
 	struct sw_err lerr;
-	struct sw_file old;
-	int ret;
+	int ret, lsb[3];
 
 	ret = b->ops->chip_info(b, chip, e);
 	if (ret)
 		return ret;
 	sw_err_clear(&lerr);
-	memset(&old, 0, sizeof(old));
-	ret = load_existing(o, path, chip, &old, &pin.have_old, oldwhy,
+	memset(old, 0, sizeof(*old));
+	ret = load_existing(o, path, chip, old, &pin.have_old, oldwhy,
 			    oldwhy_len, NULL, &lerr);
 	/* A missing state directory is created by the write. */
 	if (ret && ret != SW_EXIT_STATEDIR)
 		return sw_err_set(e, ret, "%s", lerr.msg);
 
+	if (blob) {
+		blob_offsets(blob, lsb);
+		pin.offsets_differ = offsets_differ(lsb, pin.have_old, old);
+	} else {
+		sw_err_clear(&lerr);
+		ret = b->ops->accel_offset_get(b, lsb, &lerr);
+		/* Offsets the driver cannot tell are left to the next save. */
+		if (ret == SW_EXIT_DEVICE)
+			return sw_err_set(e, ret, "%s", lerr.msg);
+		pin.offsets_differ = !ret &&
+				     offsets_differ(lsb, pin.have_old, old);
+	}
 	pin.status = cs->status;
 	pin.score_raw = cs->score_raw;
 	pin.max_score = o->max_score;
-	pin.old_status = old.cal_status;
-	pin.old_score_raw = old.score_raw;
+	pin.old_status = old->cal_status;
+	pin.old_score_raw = old->score_raw;
 	pin.force = o->force;
 	pin.improve_only = o->improve_only;
 	pin.margin = o->margin;
-	*yes = sw_policy_save(&pin, why, why_len);
+	*what = sw_policy_save(&pin, why, why_len);
 	return SW_EXIT_OK;
 }
 
@@ -257,27 +322,122 @@ int sw_save_wanted(struct sw_backend *b, const struct sw_opts *o,
 		   const struct sw_cal_state *cs, bool *yes, char *why,
 		   size_t len, struct sw_err *e)
 {
+	enum sw_save_what what;
 	struct sw_chip_info chip;
 	char path[4096], oldwhy[256];
+	struct sw_file old;
+	int ret;
 
 	sw_file_path(o, b, path, sizeof(path));
-	return policy_for(b, o, cs, &chip, path, yes, why, len, oldwhy,
-			  sizeof(oldwhy), e);
+	ret = policy_for(b, o, cs, NULL, &chip, path, &old, &what, why, len,
+			 oldwhy, sizeof(oldwhy), e);
+	*yes = !ret && what != SW_SAVE_NOTHING;
+	return ret;
+}
+
+/*
+ * Take the lock of path's writers, waiting for another one at most
+ * SW_LOCK_WAIT_MS. Returns the descriptor that holds it, or an exit code
+ * negated.
+ */
+static int writers_lock(const struct sw_opts *o, struct sw_env *env,
+			const char *path, struct sw_err *e)
+{
+	uint64_t start = env->now_ms(env->clk);
+	char lock[4400];
+	int fd;
+
+	fd = sw_file_lock_open(path, !o->file, e);
+	if (fd < 0)
+		return fd;
+	while (!sw_file_lock_try(fd)) {
+		if (env->now_ms(env->clk) - start >= SW_LOCK_WAIT_MS) {
+			close(fd);
+			sw_file_lock_name(path, lock, sizeof(lock));
+			return -sw_err_set(e, SW_EXIT_IO,
+					   "%s: another writer of %s (watch, save, calibrate, accel-cal or restore) has held it for %d s; not writing",
+					   lock, path, SW_LOCK_WAIT_MS / 1000);
+		}
+		env->sleep_ms(env->clk, 50);
+	}
+	return fd;
+}
+
+/* The payload and header to write for the policy's answer. */
+static void new_file(enum sw_save_what what, const struct sw_cal_state *cs,
+		     const uint8_t *blob, const struct sw_file *old,
+		     struct sw_file *nf)
+{
+	int k;
+
+	if (what == SW_SAVE_OFFSETS) {
+		nf->cal_status = old->cal_status;
+		nf->score_raw = old->score_raw;
+		memcpy(nf->payload, old->payload, SW_BLOB_SIZE);
+		for (k = 0; k < 3; k++)
+			sw_blob_set_param(nf->payload, SW_PARAM_ACCEL_X + k,
+					  sw_blob_param(blob,
+							SW_PARAM_ACCEL_X + k));
+		return;
+	}
+	nf->cal_status = cs->status;
+	nf->score_raw = cs->score_raw;
+	memcpy(nf->payload, blob, SW_BLOB_SIZE);
+}
+
+/* Under the writers' lock: the policy's look at the file, then the write. */
+static int save_locked(struct sw_backend *b, const struct sw_opts *o,
+		       struct sw_env *env, const struct sw_cal_state *cs,
+		       const uint8_t *blob, const char *path, bool *saved,
+		       struct sw_err *e)
+{
+	uint8_t out[SW_FILE_SIZE];
+	enum sw_save_what what;
+	char why[512], oldwhy[256];
+	struct sw_file nf, old;
+	int ret, lsb[3];
+
+	migrate_legacy(b, o, env);
+	memset(&nf, 0, sizeof(nf));
+	ret = policy_for(b, o, cs, blob, &nf.chip, path, &old, &what, why,
+			 sizeof(why), oldwhy, sizeof(oldwhy), e);
+	if (ret)
+		return ret;
+	/* The policy saying no is the policy working: not a failure. */
+	if (what == SW_SAVE_NOTHING) {
+		sw_note(env, "not saving %s calibration to %s: %s", b->name,
+			path, why);
+		return SW_EXIT_OK;
+	}
+	if (oldwhy[0])
+		sw_note(env, "replacing unusable %s: %s", path, oldwhy);
+	new_file(what, cs, blob, &old, &nf);
+	nf.saved_at = env->wall_s(env->clk);
+	sw_file_encode(&nf, out);
+	ret = sw_file_write_atomic(path, out, sizeof(out), !o->file, e);
+	if (ret)
+		return ret;
+	blob_offsets(blob, lsb);
+	if (what == SW_SAVE_OFFSETS)
+		sw_note(env, "saved %s accel offsets %d %d %d LSB to %s: %s",
+			b->name, lsb[0], lsb[1], lsb[2], path, why);
+	else
+		sw_note(env, "saved %s calibration to %s: %s", b->name, path,
+			why);
+	*saved = true;
+	return SW_EXIT_OK;
 }
 
 int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, const struct sw_cal_state *cs,
 		     const uint8_t *blob, bool *saved, struct sw_err *e)
 {
-	uint8_t out[SW_FILE_SIZE];
-	char path[4096], why[256], oldwhy[256];
-	struct sw_file nf;
-	bool yes;
-	int bad, ret;
+	char path[4096], why[256];
+	bool wrote = false;
+	int bad, ret, lock;
 
 	if (saved)
 		*saved = false;
-	memset(&nf, 0, sizeof(nf));
 	if (!sw_cal_state_check(cs, why, sizeof(why)))
 		return sw_err_set(e, SW_EXIT_IO,
 				  "%s: %s, read from the chip: not saving",
@@ -287,33 +447,15 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 		return sw_err_set(e, SW_EXIT_IO,
 				  "%s: parameter %d (%s) read from the chip is not a finite number; not saving",
 				  b->name, bad, sw_param_name(bad));
-	migrate_legacy(b, o, env);
 	sw_file_path(o, b, path, sizeof(path));
-	ret = policy_for(b, o, cs, &nf.chip, path, &yes, why, sizeof(why),
-			 oldwhy, sizeof(oldwhy), e);
-	if (ret)
-		return ret;
-	/* The policy saying no is the policy working: not a failure. */
-	if (!yes) {
-		sw_note(env, "not saving %s calibration to %s: %s", b->name,
-			path, why);
-		return SW_EXIT_OK;
-	}
-	if (oldwhy[0])
-		sw_note(env, "replacing unusable %s: %s", path, oldwhy);
-
-	nf.cal_status = cs->status;
-	nf.score_raw = cs->score_raw;
-	nf.saved_at = env->wall_s(env->clk);
-	memcpy(nf.payload, blob, SW_BLOB_SIZE);
-	sw_file_encode(&nf, out);
-	ret = sw_file_write_atomic(path, out, sizeof(out), !o->file, e);
-	if (ret)
-		return ret;
-	sw_note(env, "saved %s calibration to %s: %s", b->name, path, why);
+	lock = writers_lock(o, env, path, e);
+	if (lock < 0)
+		return -lock;
+	ret = save_locked(b, o, env, cs, blob, path, &wrote, e);
+	close(lock);
 	if (saved)
-		*saved = true;
-	return SW_EXIT_OK;
+		*saved = wrote;
+	return ret;
 }
 
 int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
@@ -321,10 +463,8 @@ int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
 {
 	struct sw_cal_state before, after;
 	uint8_t blob[SW_BLOB_SIZE];
-	int ret;
-
 	char why[160];
-	int i;
+	int i, ret;
 
 	ret = b->ops->cal_state(b, &before, e);
 	ret = ret ? ret : b->ops->read_blob(b, blob, e);
@@ -356,23 +496,40 @@ int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
 /*
  * A state file that failed a check is kept for inspection under
  * KEY.ws.refused (replacing an older one), so that the next save can write
- * a good calibration in its place. A --file file is the user's: left alone.
+ * a good calibration in its place: under the writers' lock, and only while
+ * it still holds the len bytes of buf that were refused (a save may have
+ * replaced it meanwhile). A --file file is the user's: left alone.
  */
-static void set_aside(const struct sw_opts *o, const char *path,
-		      char *note, size_t len)
+static void set_aside(const struct sw_opts *o, struct sw_env *env,
+		      const char *path, const uint8_t *buf, size_t len,
+		      char *note, size_t note_len)
 {
+	uint8_t now[SW_FILE_MAX_READ + 1];
 	char aside[4200];
 	struct sw_err me;
+	size_t now_len;
+	int lock;
 
 	note[0] = '\0';
 	if (o->file)
 		return;
 	snprintf(aside, sizeof(aside), "%s.refused", path);
 	sw_err_clear(&me);
-	if (sw_file_rename(path, aside, true, &me))
-		snprintf(note, len, "; could not move it aside: %s", me.msg);
+	lock = writers_lock(o, env, path, &me);
+	if (lock < 0) {
+		snprintf(note, note_len, "; could not move it aside: %s", me.msg);
+		return;
+	}
+	if (sw_file_read(path, read_mode(o), now, &now_len, NULL, &me) ||
+	    now_len != len || memcmp(now, buf, len))
+		snprintf(note, note_len,
+			 "; not moved aside: it changed meanwhile (a save replaced it?)");
+	else if (sw_file_rename(path, aside, true, &me))
+		snprintf(note, note_len, "; could not move it aside: %s", me.msg);
 	else
-		snprintf(note, len, "; moved aside to %s for inspection", aside);
+		snprintf(note, note_len, "; moved aside to %s for inspection",
+			 aside);
+	close(lock);
 }
 
 int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
@@ -406,7 +563,7 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 		return sw_err_set(e, rerr.code, "%s", rerr.msg);
 	c = sw_file_decode(buf, len, &f, detail, sizeof(detail));
 	if (c != SW_CHECK_OK) {
-		set_aside(o, path, aside, sizeof(aside));
+		set_aside(o, env, path, buf, len, aside, sizeof(aside));
 		return sw_err_set(e, SW_EXIT_FILE,
 				  "%s: refused: %s (%s); the chip was not touched%s",
 				  path, sw_check_name(c), detail, aside);
@@ -417,7 +574,7 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 	c = sw_file_match_chip(&f, &chip, detail, sizeof(detail));
 	if (c != SW_CHECK_OK) {
 		if (!o->force) {
-			set_aside(o, path, aside, sizeof(aside));
+			set_aside(o, env, path, buf, len, aside, sizeof(aside));
 			return sw_err_set(e, SW_EXIT_FILE,
 					  "%s: refused: %s (%s); the chip was not touched (--force restores anyway)%s",
 					  path, sw_check_name(c), detail, aside);
@@ -429,13 +586,17 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 	if (ret)
 		return ret;
 
-	/* The chip needs a moment to take the coefficients in. */
+	/*
+	 * The chip needs a moment to take the coefficients in. A file saved
+	 * for its accel offsets before the magnetic calibration was complete
+	 * cannot bring status 3.
+	 */
 	start = env->now_ms(env->clk);
 	for (;;) {
 		ret = b->ops->cal_state(b, &cs, e);
 		if (ret)
 			return ret;
-		if (cs.status == 3)
+		if (cs.status == 3 || f.cal_status != 3)
 			break;
 		if (env->now_ms(env->clk) - start >= RESTORE_SETTLE_MS)
 			return sw_err_set(e, SW_EXIT_CAL,
@@ -443,9 +604,9 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 					  b->name, path, cs.status);
 		env->sleep_ms(env->clk, RESTORE_POLL_MS);
 	}
-	sw_note(env, "restored %s calibration from %s: status 3, score %.3f%% (saved with %.3f%%)",
-		b->name, path, sw_score_pct(cs.score_raw),
-		sw_score_pct(f.score_raw));
+	sw_note(env, "restored %s calibration from %s: status %d, score %.3f%% (saved with status %d, %.3f%%)",
+		b->name, path, cs.status, sw_score_pct(cs.score_raw),
+		f.cal_status, sw_score_pct(f.score_raw));
 	return SW_EXIT_OK;
 }
 
@@ -522,11 +683,10 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 			fprintf(out, ",\"product_id\":%u,\"revision_id\":%u,\"rom_version\":%u,\"ram_version\":%u",
 				chip.product_id, chip.revision_id,
 				chip.rom_version, chip.ram_version);
-		fprintf(out, ",\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"mag_transient\":%d,\"gyro_bias_updates\":%llu,\"mag_calibration_updates\":%llu,\"file\":",
+		fprintf(out, ",\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"mag_transient\":%d,\"gyro_bias_update\":%d,\"mag_calibration_update\":%d,\"file\":",
 			cs.status, sw_score_pct(cs.score_raw), cs.score_raw,
-			cs.mag_transient,
-			(unsigned long long)cs.gyro_bias_updates,
-			(unsigned long long)cs.mag_cal_updates);
+			cs.mag_transient, cs.gyro_bias_update,
+			cs.mag_cal_update);
 		sw_json_str(out, path);
 		if (have_file)
 			fprintf(out, ",\"saved\":{\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"saved_at\":%llu}}\n",
@@ -552,10 +712,8 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 		cs.status == 3 ? " (complete)" : "");
 	fprintf(out, "calibration score:   %.3f%%\n", sw_score_pct(cs.score_raw));
 	fprintf(out, "mag transient:       %d\n", cs.mag_transient);
-	fprintf(out, "gyro bias updates:   %llu\n",
-		(unsigned long long)cs.gyro_bias_updates);
-	fprintf(out, "mag cal updates:     %llu\n",
-		(unsigned long long)cs.mag_cal_updates);
+	fprintf(out, "gyro bias update:    %d\n", cs.gyro_bias_update);
+	fprintf(out, "mag cal update:      %d\n", cs.mag_cal_update);
 	if (have_file)
 		fprintf(out, "saved file:          %s (status %d, score %.3f%%, saved %s)\n",
 			path, f.cal_status, sw_score_pct(f.score_raw), when);

@@ -17,8 +17,13 @@ struct sw_env {
 	void *clk;
 	uint64_t (*now_ms)(void *clk);		/* monotonic */
 	void (*sleep_ms)(void *clk, unsigned int ms);
+	/* as sleep_ms, cut short by SIGINT, SIGTERM or SIGHUP (watch) */
+	void (*nap_ms)(void *clk, unsigned int ms);
 	uint64_t (*wall_s)(void *clk);		/* seconds since the epoch */
 };
+
+/* How long a writer waits for another one to finish (see wsfile.h). */
+#define SW_LOCK_WAIT_MS 30000
 
 /* Real clocks; out/err/tty/kmsg are the caller's. */
 void sw_env_init(struct sw_env *env, FILE *out, FILE *err);
@@ -55,23 +60,27 @@ int sw_cmd_key(struct sw_backend *b, const struct sw_opts *o,
 int sw_cmd_accel_cal(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, struct sw_err *e);
 /*
- * Stay running: save by the policy (o->improve_only, margin, at most one
- * write per o->interval_s) whenever the driver reports a change. Ends
- * with SW_EXIT_OK on SIGINT, SIGTERM or SIGHUP.
+ * Stay running: read the calibration state every o->poll_s and save by
+ * the policy (improve_only, margin, at most one write per o->interval_s).
+ * Ends with SW_EXIT_OK on SIGINT, SIGTERM or SIGHUP, with SW_EXIT_DEVICE
+ * when the device goes away.
  */
 int sw_cmd_watch(struct sw_backend *b, const struct sw_opts *o,
 		 struct sw_env *env, struct sw_err *e);
 
 /*
  * save: read the state, the blob and the state again, and save by the
- * policy; *saved (may be NULL) says whether a file was written.
+ * policy; *saved (may be NULL) says whether a file was written. Writers
+ * of one file take turns (sw_file_lock_open()), waiting SW_LOCK_WAIT_MS
+ * at most.
  */
 int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
 		struct sw_env *env, bool *saved, struct sw_err *e);
 
 /*
- * Would the policy save a calibration in state cs? Reads the saved file
- * and the chip's identity only, not the blob (no parameter transfer).
+ * Would the policy save a calibration in state cs? Reads the saved file,
+ * the chip's identity and its accel offsets (the driver's copy), not the
+ * blob: no bus transaction with the driver.
  */
 int sw_save_wanted(struct sw_backend *b, const struct sw_opts *o,
 		   const struct sw_cal_state *cs, bool *yes, char *why,

@@ -4,7 +4,9 @@
  */
 #include "policy.h"
 
-bool sw_policy_save(const struct sw_policy_in *in, char *why, size_t len)
+/* The calibration's own case: status and score against the saved file. */
+static bool calibration_better(const struct sw_policy_in *in, char *why,
+			       size_t len)
 {
 	double pct = sw_score_pct(in->score_raw);
 	double old_pct = sw_score_pct(in->old_score_raw);
@@ -12,12 +14,6 @@ bool sw_policy_save(const struct sw_policy_in *in, char *why, size_t len)
 	bool old_good = have_old && in->old_status == 3 &&
 			old_pct <= in->max_score;
 
-	/* Below 0 % is a bad read: it would look better than any calibration. */
-	if (!sw_score_raw_valid(in->score_raw)) {
-		snprintf(why, len, "score %.3f%% is out of range (a bad read?)",
-			 pct);
-		return false;
-	}
 	if (in->force) {
 		snprintf(why, len, "forced (status %d, score %.3f%%)",
 			 in->status, pct);
@@ -63,4 +59,34 @@ bool sw_policy_save(const struct sw_policy_in *in, char *why, size_t len)
 		snprintf(why, len, "score %.3f%% is above the limit %.3f%%",
 			 pct, in->max_score);
 	return false;
+}
+
+enum sw_save_what sw_policy_save(const struct sw_policy_in *in, char *why,
+				 size_t len)
+{
+	bool have_old = in->have_old && sw_score_raw_valid(in->old_score_raw);
+	char cal[256];
+
+	/* Below 0 % is a bad read: it would look better than any calibration. */
+	if (!sw_score_raw_valid(in->score_raw)) {
+		snprintf(why, len, "score %.3f%% is out of range (a bad read?)",
+			 sw_score_pct(in->score_raw));
+		return SW_SAVE_NOTHING;
+	}
+	if (calibration_better(in, why, len))
+		return SW_SAVE_BLOB;
+	if (!in->offsets_differ)
+		return SW_SAVE_NOTHING;
+	/* The accel offsets are the user's work: never lost to the score. */
+	snprintf(cal, sizeof(cal), "%s", why);
+	if (have_old) {
+		snprintf(why, len,
+			 "the accel offsets differ from the saved file's; its calibration (status %d, score %.3f%%) is kept: %s",
+			 in->old_status, sw_score_pct(in->old_score_raw), cal);
+		return SW_SAVE_OFFSETS;
+	}
+	snprintf(why, len,
+		 "the chip holds accel offsets and no usable file does: saving its calibration as it is, although %s",
+		 cal);
+	return SW_SAVE_BLOB;
 }

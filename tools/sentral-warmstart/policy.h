@@ -13,6 +13,16 @@
 /* watch: a flash write at most every 5 minutes, for a gain of 0.5 points */
 #define SW_DEFAULT_INTERVAL_S 300
 #define SW_DEFAULT_MARGIN 0.5
+/* watch: a look every 30 s notices a new calibration within a minute */
+#define SW_DEFAULT_POLL_S 30
+
+/* What a save writes. */
+enum sw_save_what {
+	SW_SAVE_NOTHING,
+	SW_SAVE_BLOB,		/* the chip's blob with its status and score */
+	/* the saved file's blob and header with the chip's accel offsets */
+	SW_SAVE_OFFSETS,
+};
 
 struct sw_policy_in {
 	int status;		/* current calibration status */
@@ -25,16 +35,26 @@ struct sw_policy_in {
 	/* a good saved file is replaced only by a score margin points lower */
 	bool improve_only;
 	double margin;
+	/*
+	 * The chip's accel offsets (parameters 27..29) are not all zero (the
+	 * power-on value, which a chip not restored holds) and differ from
+	 * the saved file's, or there is no usable file.
+	 */
+	bool offsets_differ;
 };
 
 /*
- * Returns true to save. why receives a one-line reason either way.
- * Rules: status must be 3; then the score must be <= max_score or better
- * (lower) than the existing file's; a file that is itself complete and
- * acceptable is never replaced by a worse one. --force overrides all.
- * With improve_only (watch), a complete and acceptable file is replaced
- * only by a score at least margin points lower: not by an equal one.
+ * What to save (SW_SAVE_NOTHING is 0: a truth value). why receives a
+ * one-line reason either way. Rules: status must be 3; then the score must
+ * be <= max_score or better (lower) than the existing file's; a file that
+ * is itself complete and acceptable is never replaced by a worse one.
+ * --force overrides all. With improve_only (watch), a complete and
+ * acceptable file is replaced only by a score at least margin points
+ * lower: not by an equal one. When those say no, offsets that differ are
+ * still kept: put into the saved file (SW_SAVE_OFFSETS), or with no usable
+ * file, saved with the chip's blob as it is.
  */
-bool sw_policy_save(const struct sw_policy_in *in, char *why, size_t len);
+enum sw_save_what sw_policy_save(const struct sw_policy_in *in, char *why,
+				 size_t len);
 
 #endif

@@ -23,7 +23,7 @@ enum sw_exit {
 	SW_EXIT_USAGE = EX_USAGE,	/* 64: bad command line */
 	SW_EXIT_FILE = EX_DATAERR,	/* 65: saved file failed a check */
 	SW_EXIT_NOFILE = EX_NOINPUT,	/* 66: saved file missing */
-	SW_EXIT_DEVICE = EX_UNAVAILABLE, /* 69: no device, several, wrong chip, driver bound */
+	SW_EXIT_DEVICE = EX_UNAVAILABLE, /* 69: no device, several, wrong chip, driver bound, gone */
 	SW_EXIT_OSERR = EX_OSERR,	/* 71: out of memory */
 	SW_EXIT_STATEDIR = EX_OSFILE,	/* 72: state directory missing */
 	SW_EXIT_IO = EX_IOERR,		/* 74: sysfs, i2c bus or file system error */
@@ -102,12 +102,13 @@ struct sw_cal_state {
 	uint16_t score_raw;	/* regs 0x4D | 0x4E << 8 */
 	int mag_transient;	/* reg 0x43 bits 3:2 */
 	/*
-	 * Updates the chip reported in reg 0x44 (bit 1 gyro bias, bit 0
-	 * magnetic calibration): the driver's counters, or over i2c-dev
-	 * those this process has seen. Only their changes mean anything.
+	 * 0/1: the chip reported an update in reg 0x44 (bit 1 gyro bias,
+	 * bit 0 magnetic calibration). The driver's flags stay 1 until
+	 * calibration_data is read or written; over i2c-dev 0x44 clears when
+	 * read, so they say "since the last read of 0x44 by anyone".
 	 */
-	uint64_t gyro_bias_updates;
-	uint64_t mag_cal_updates;
+	int gyro_bias_update;
+	int mag_cal_update;
 };
 
 /*

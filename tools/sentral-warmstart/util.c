@@ -123,6 +123,10 @@ bool sw_cal_state_check(const struct sw_cal_state *cs, char *why, size_t len)
 	else if (cs->mag_transient < 0 || cs->mag_transient > 3)
 		snprintf(why, len, "mag_transient %d is not 0..3",
 			 cs->mag_transient);
+	else if (cs->gyro_bias_update < 0 || cs->gyro_bias_update > 1 ||
+		 cs->mag_cal_update < 0 || cs->mag_cal_update > 1)
+		snprintf(why, len, "update flags %d %d are not 0 or 1",
+			 cs->gyro_bias_update, cs->mag_cal_update);
 	else if (!sw_score_raw_valid(cs->score_raw))
 		snprintf(why, len, "calibration score %.3f%% is below 0 %%",
 			 sw_score_pct(cs->score_raw));

@@ -613,6 +613,60 @@ fail:
 			  strerror(err));
 }
 
+#define LOCK_SUFFIX ".lock"
+
+void sw_file_lock_name(const char *path, char *out, size_t len)
+{
+	const char *slash = strrchr(path, '/');
+
+	if (slash)
+		snprintf(out, len, "%.*s.%s" LOCK_SUFFIX,
+			 (int)(slash - path + 1), path, slash + 1);
+	else
+		snprintf(out, len, ".%s" LOCK_SUFFIX, path);
+}
+
+int sw_file_lock_open(const char *path, bool state_dir, struct sw_err *e)
+{
+	char dir[4096], name[300], lock[4400];
+	const char *base;
+	struct stat st;
+	int dfd, fd, err;
+
+	err = split_path(path, dir, sizeof(dir), &base, e);
+	if (err)
+		return -err;
+	dfd = open_dir(dir, state_dir, e);
+	if (dfd < 0)
+		return dfd;
+	snprintf(name, sizeof(name), ".%s" LOCK_SUFFIX, base);
+	fd = openat(dfd, name, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC |
+		    O_NOCTTY | O_NONBLOCK, 0600);
+	err = errno;
+	close(dfd);
+	sw_file_lock_name(path, lock, sizeof(lock));
+	if (fd < 0 && err == ELOOP)
+		return -sw_err_set(e, SW_EXIT_PERM,
+				   "%s: is a symbolic link; refusing to follow it",
+				   lock);
+	if (fd < 0)
+		return -sw_err_set(e, SW_EXIT_IO, "%s: %s", lock, strerror(err));
+	/* Someone else's lock file could be held for ever, or be a FIFO. */
+	if (fstat(fd, &st) < 0 || !S_ISREG(st.st_mode) ||
+	    st.st_uid != geteuid()) {
+		close(fd);
+		return -sw_err_set(e, SW_EXIT_PERM,
+				   "%s: refused: not a regular file of uid %u",
+				   lock, (unsigned int)geteuid());
+	}
+	return fd;
+}
+
+bool sw_file_lock_try(int fd)
+{
+	return flock(fd, LOCK_EX | LOCK_NB) == 0;
+}
+
 int sw_file_rename(const char *from, const char *to, bool replace,
 		   struct sw_err *e)
 {

@@ -138,6 +138,23 @@ int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
 			 bool state_dir, struct sw_err *e);
 
 /*
+ * Writers of one file (save, watch, calibrate, accel-cal, restore setting
+ * a refused file aside) take an flock(2) on its lock file ".BASE.lock" in
+ * the same directory, so that the policy's look at the old file and the
+ * rename that replaces it are one step. Readers need none: the rename is
+ * atomic. sw_file_lock_open() creates the directory as
+ * sw_file_write_atomic() does and the lock file with mode 0600, never
+ * through a symlink, and refuses one that is not a regular file of the
+ * effective user's (SW_EXIT_PERM). Returns the descriptor or an exit code
+ * negated. The lock goes with the descriptor (close it to release).
+ */
+int sw_file_lock_open(const char *path, bool state_dir, struct sw_err *e);
+/* Take the lock without waiting: false while another writer holds it. */
+bool sw_file_lock_try(int fd);
+/* The lock file's path, for messages. */
+void sw_file_lock_name(const char *path, char *out, size_t len);
+
+/*
  * Rename a state file within its (checked) state directory: to set a
  * refused file aside, or to move a file saved under an old key to the new
  * one. Without replace, an existing target is never overwritten (EEXIST).

@@ -12,7 +12,7 @@
  *    into argv (or is the built-in state directory);
  *  - a successful parse is complete: a command (unless --help or
  *    --version), show's FILE, values inside their documented ranges,
- *    no watch over --i2c;
+ *    no watch over --i2c, --no-save with accel-cal only;
  *  - a second parse of the same argv gives the same result (getopt's
  *    hidden state is reset);
  *  - a message about an option names the option ("-x", "--name"), not
@@ -53,8 +53,10 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 		abort();
 	if (o->cmd == SW_CMD_NONE || o->cmd > SW_CMD_WATCH)
 		abort();
-	/* nothing would wake a watch over i2c-dev but polling the bus */
+	/* over i2c-dev each look at the offsets would be a parameter transfer */
 	if (o->cmd == SW_CMD_WATCH && o->i2c_dev)
+		abort();
+	if (o->no_save && o->cmd != SW_CMD_ACCEL_CAL)
 		abort();
 	if (o->udev && (o->cmd != SW_CMD_KEY || o->i2c_dev))
 		abort();
@@ -70,6 +72,7 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 	if (o->timeout_s < 1 || o->timeout_s > 86400 ||
 	    o->samples < 1 || o->samples > 10000 ||
 	    o->interval_s < 1 || o->interval_s > 86400 ||
+	    o->poll_s < 1 || o->poll_s > 3600 ||
 	    !(o->margin >= 0 && o->margin <= 100))
 		abort();
 }

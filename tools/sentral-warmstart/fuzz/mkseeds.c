@@ -109,9 +109,9 @@ static void cli_seeds(void)
 	ARGV("save-i2c", "--i2c\0/dev/i2c-1\0--address\0" "0x29\0save\0--force\0--max-score\0" "4.5");
 	ARGV("restore", "restore\0--if-present\0-f\0/var/lib/sentral-warmstart/x.ws");
 	ARGV("calibrate", "calibrate\0--timeout\0" "60\0--target-score=2.5\0--max-score\0" "5");
-	ARGV("accel-cal", "--state-dir=/tmp/s\0accel-cal\0--samples\0" "128");
+	ARGV("accel-cal", "--state-dir=/tmp/s\0accel-cal\0--samples\0" "128\0--no-save");
 	ARGV("show", "show\0/tmp/x.ws");
-	ARGV("watch", "watch\0--interval\0" "60\0--margin=0.25\0--max-score\0" "4");
+	ARGV("watch", "watch\0--interval\0" "60\0--margin=0.25\0--max-score\0" "4\0--poll\0" "5");
 	ARGV("help", "-hV");
 	ARGV("cluster", "-dfoo\0status");
 	ARGV("end-of-options", "show\0--\0--json");

@@ -43,15 +43,6 @@ cal_status() {
 	cat "$(em7180_dir)/in_magn_calibration_auto_status"
 }
 
-gbias_updates() {
-	cat "$(em7180_dir)/in_anglvel_calibration_update_count"
-}
-
-# The gyro bias was updated since the count was N.
-gbias_updates_above() {
-	[ "$(gbias_updates)" -gt "$1" ]
-}
-
 # Complete with a score of 3% or better.
 calibrated_good() {
 	local d

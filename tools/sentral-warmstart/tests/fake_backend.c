@@ -8,11 +8,26 @@ static struct fake_be *to_fake(struct sw_backend *b)
 	return (struct fake_be *)b;
 }
 
+static bool gone(struct fake_be *f, struct sw_err *e)
+{
+	if (!f->gone_ms || f->clk->now_ms < f->gone_ms)
+		return false;
+	sw_err_set(e, SW_EXIT_DEVICE,
+		   "%s is gone (unbound or unplugged): reading in_magn_calibration_auto_status: No such device",
+		   f->b.name);
+	return true;
+}
+
 static int f_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
 		       struct sw_err *e)
 {
-	(void)e;
-	*ci = to_fake(b)->chip;
+	struct fake_be *f = to_fake(b);
+
+	if (gone(f, e))
+		return e->code;
+	if (f->on_chip_info)
+		f->on_chip_info(f);
+	*ci = f->chip;
 	return SW_EXIT_OK;
 }
 
@@ -26,24 +41,46 @@ static void current_state(struct fake_be *f, struct sw_cal_state *cs)
 			break;
 		cs->status = f->script[i].status;
 		cs->score_raw = f->script[i].score_raw;
-		cs->gyro_bias_updates = f->script[i].gyro_bias_updates;
+		/* The driver's flag: set until calibration_data is read. */
+		if (f->script[i].gyro_bias_update &&
+		    (!f->flags_cleared ||
+		     f->script[i].at_ms > f->flags_cleared_ms))
+			cs->gyro_bias_update = 1;
 	}
+}
+
+static void clear_flags(struct fake_be *f)
+{
+	f->flags_cleared = true;
+	f->flags_cleared_ms = f->clk->now_ms;
+	f->cs.gyro_bias_update = 0;
+	f->cs.mag_cal_update = 0;
 }
 
 static int f_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 		       struct sw_err *e)
 {
-	(void)e;
-	current_state(to_fake(b), cs);
+	struct fake_be *f = to_fake(b);
+
+	if (gone(f, e))
+		return e->code;
+	f->state_reads++;
+	current_state(f, cs);
 	return SW_EXIT_OK;
 }
 
 static int f_read_blob(struct sw_backend *b, uint8_t *blob, struct sw_err *e)
 {
 	struct fake_be *f = to_fake(b);
+	int k;
 
-	(void)e;
+	if (gone(f, e))
+		return e->code;
 	f->reads++;
+	/* The chip holds the accel offsets in parameters 27..29. */
+	for (k = 0; k < 3; k++)
+		sw_blob_set_param(f->blob, SW_PARAM_ACCEL_X + k,
+				  sw_lsb_to_g(f->offset[k]));
 	if (f->blob_follows_score) {
 		struct sw_cal_state cs;
 
@@ -51,6 +88,7 @@ static int f_read_blob(struct sw_backend *b, uint8_t *blob, struct sw_err *e)
 		sw_blob_set_param(f->blob, 18, (float)cs.score_raw);
 	}
 	memcpy(blob, f->blob, SW_BLOB_SIZE);
+	clear_flags(f);
 	return SW_EXIT_OK;
 }
 
@@ -58,11 +96,16 @@ static int f_write_blob(struct sw_backend *b, const uint8_t *blob,
 			struct sw_err *e)
 {
 	struct fake_be *f = to_fake(b);
+	int k;
 
 	if (f->fail_write)
 		return sw_err_set(e, f->fail_write, "fake: write failed");
 	f->writes++;
+	clear_flags(f);
 	memcpy(f->blob, blob, SW_BLOB_SIZE);
+	for (k = 0; k < 3; k++)
+		f->offset[k] = sw_g_to_lsb(sw_blob_param(blob,
+							 SW_PARAM_ACCEL_X + k));
 	if (f->status_after_write >= 0)
 		f->cs.status = f->status_after_write;
 	return SW_EXIT_OK;
@@ -116,45 +159,6 @@ static int f_offset_set(struct sw_backend *b, const int lsb[3],
 	return SW_EXIT_OK;
 }
 
-static int f_watch_begin(struct sw_backend *b, struct sw_err *e)
-{
-	(void)e;
-	to_fake(b)->watching = true;
-	return SW_EXIT_OK;
-}
-
-static int f_watch_wait(struct sw_backend *b, int timeout_ms, bool *changed,
-			struct sw_err *e)
-{
-	struct fake_be *f = to_fake(b);
-	uint64_t now = f->clk->now_ms;
-	size_t i;
-
-	f->waits++;
-	*changed = false;
-	for (i = 0; i < f->nsteps; i++) {
-		if (f->script[i].at_ms <= now)
-			continue;
-		if (timeout_ms >= 0 &&
-		    f->script[i].at_ms > now + (uint64_t)timeout_ms)
-			break;
-		f->clk->now_ms = f->script[i].at_ms;
-		f->wakeups++;
-		*changed = true;
-		return SW_EXIT_OK;
-	}
-	if (timeout_ms < 0 ||
-	    (f->end_ms && now + (uint64_t)timeout_ms > f->end_ms))
-		return sw_err_set(e, SW_EXIT_IO, "fake: the script has ended");
-	f->clk->now_ms = now + (uint64_t)timeout_ms;
-	return SW_EXIT_OK;
-}
-
-static void f_watch_end(struct sw_backend *b)
-{
-	to_fake(b)->watching = false;
-}
-
 static void f_close(struct sw_backend *b)
 {
 	(void)b;
@@ -169,9 +173,6 @@ static const struct sw_backend_ops fake_ops = {
 	.accel_raw = f_accel_raw,
 	.accel_offset_get = f_offset_get,
 	.accel_offset_set = f_offset_set,
-	.watch_begin = f_watch_begin,
-	.watch_wait = f_watch_wait,
-	.watch_end = f_watch_end,
 	.close = f_close,
 };
 
@@ -225,5 +226,6 @@ void fake_env(struct sw_env *env, struct fake_clock *clk, FILE *out,
 	env->clk = clk;
 	env->now_ms = f_now;
 	env->sleep_ms = f_sleep;
+	env->nap_ms = f_sleep;
 	env->wall_s = f_wall;
 }

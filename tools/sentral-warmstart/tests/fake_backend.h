@@ -18,7 +18,7 @@ struct fake_step {
 	uint64_t at_ms;
 	int status;
 	uint16_t score_raw;
-	uint64_t gyro_bias_updates;	/* the driver's counter */
+	int gyro_bias_update;	/* 1: the chip reports an update at at_ms */
 };
 
 struct fake_be {
@@ -33,7 +33,10 @@ struct fake_be {
 	bool blob_follows_score;	/* blob param 18 = current score */
 	int writes, reads;
 	int fail_write;			/* exit code write_blob returns */
-	/* accel: output = bias + expected - offset (+ alternating noise) */
+	/*
+	 * accel: output = bias + expected - offset (+ alternating noise);
+	 * offset is parameters 27..29 of the blob the fake reads and writes
+	 */
 	int bias[3];
 	int offset[3];
 	int noise;
@@ -43,14 +46,15 @@ struct fake_be {
 	/* the magnetometer at a time: NULL reads a device at rest */
 	void (*mag)(uint64_t now_ms, double ut[3]);
 	unsigned int mag_reads;
-	/*
-	 * watch: a wait ends at the next script step (the driver's report)
-	 * or its timeout; past the last step with no timeout, or a timeout
-	 * beyond end_ms (when not 0), it fails.
-	 */
-	uint64_t end_ms;
-	bool watching;
-	unsigned int waits, wakeups;
+	/* cal_state calls; the driver's flags were cleared at flags_cleared_ms */
+	unsigned int state_reads;
+	bool flags_cleared;
+	uint64_t flags_cleared_ms;
+	/* from gone_ms on (when not 0) the device is gone: unbound, unplugged */
+	uint64_t gone_ms;
+	/* called at each chip_info (the save policy's first look) */
+	void (*on_chip_info)(struct fake_be *f);
+	void *data;		/* the hook's */
 };
 
 void fake_init(struct fake_be *f, struct fake_clock *clk);

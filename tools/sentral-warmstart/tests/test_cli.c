@@ -45,7 +45,9 @@ static void test_defaults(void **state)
 	assert_int_equal(o.timeout_s, 120);
 	assert_int_equal(o.samples, 64);
 	assert_int_equal(o.interval_s, 300);
+	assert_int_equal(o.poll_s, 30);
 	assert_true(o.margin == 0.5);
+	assert_false(o.no_save);
 }
 
 static void test_good(void **state)
@@ -89,11 +91,16 @@ static void test_good(void **state)
 	assert_int_equal(parse(&o, &e, "accel-cal", "--samples", "16", NULL),
 			 SW_EXIT_OK);
 	assert_int_equal(o.samples, 16);
+	assert_int_equal(parse(&o, &e, "accel-cal", "--no-save", NULL),
+			 SW_EXIT_OK);
+	assert_true(o.no_save);
 	assert_int_equal(parse(&o, &e, "--device", "iio:device0", "watch",
 			       "--interval", "60", "--margin", "0.25",
-			       "--max-score", "4", NULL), SW_EXIT_OK);
+			       "--max-score", "4", "--poll", "3600", NULL),
+			 SW_EXIT_OK);
 	assert_int_equal(o.cmd, SW_CMD_WATCH);
 	assert_int_equal(o.interval_s, 60);
+	assert_int_equal(o.poll_s, 3600);
 	assert_true(o.margin == 0.25);
 	assert_true(o.max_score == 4.0);
 	assert_false(o.improve_only);
@@ -172,6 +179,14 @@ static void test_errors(void **state)
 		     "watch", "--interval", "0", NULL);
 	expect_usage("--margin: '-1' is not a number between 0 and 100",
 		     "watch", "--margin", "-1", NULL);
+	expect_usage("--poll: '0' is not a number between 1 and 3600",
+		     "watch", "--poll", "0", NULL);
+	expect_usage("--poll: '3601' is not a number between 1 and 3600",
+		     "watch", "--poll", "3601", NULL);
+	expect_usage("--poll is not an option of 'save'", "save", "--poll",
+		     "5", NULL);
+	expect_usage("--no-save is not an option of 'calibrate'", "calibrate",
+		     "--no-save", NULL);
 	expect_usage("watch needs the em7180 driver", "--i2c", "/dev/i2c-0",
 		     "watch", NULL);
 	expect_usage("no command", "--device", "x", NULL);

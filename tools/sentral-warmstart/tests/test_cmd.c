@@ -3,6 +3,7 @@
  * Unit tests: save, restore, status, show, calibrate and accel-cal against
  * a fake chip and a fake clock.
  */
+#include <errno.h>
 #include <fcntl.h>
 #include <math.h>
 #include <setjmp.h>
@@ -519,9 +520,11 @@ static void test_status(void **state)
 {
 	struct ctx *c = *state;
 
+	c->fb.cs.mag_cal_update = 1;
 	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_OK);
 	assert_non_null(strstr(out_text(c), "calibration status:  3 (complete)"));
+	assert_non_null(strstr(out_text(c), "gyro bias update:    0\nmag cal update:      1\n"));
 	assert_non_null(strstr(out_text(c), "no saved calibration"));
 	assert_int_equal(save(c), SW_EXIT_OK);
 	c->o.json = true;
@@ -529,6 +532,8 @@ static void test_status(void **state)
 			 SW_EXIT_OK);
 	assert_non_null(strstr(out_text(c), "{\"device\":\"iio:device0\",\"backend\":\"fake\",\"key\":\"platform-sentral-sim-0x28\",\"product_id\":128,"));
 	assert_non_null(strstr(out_text(c), "\"calibration_status\":3,\"calibration_score\":2.499,"));
+	/* the save read calibration_data, which clears the driver's flags */
+	assert_non_null(strstr(out_text(c), ",\"gyro_bias_update\":0,\"mag_calibration_update\":0,"));
 	assert_non_null(strstr(out_text(c), "\"saved\":{\"calibration_status\":3,"));
 }
 
@@ -537,7 +542,7 @@ static void test_show(void **state)
 	struct ctx *c = *state;
 	struct sw_opts o = c->o;
 
-	sw_blob_set_param(c->fb.blob, 27, sw_lsb_to_g(-47));
+	c->fb.offset[0] = -47;
 	assert_int_equal(save(c), SW_EXIT_OK);
 	o.file = c->path;
 	assert_int_equal(sw_cmd_show(&o, &c->env, &c->e), SW_EXIT_OK);
@@ -576,13 +581,13 @@ static void test_show(void **state)
 }
 
 static const struct fake_step cal_ok[] = {
-	{ 0, 0, 0xffff, 4 },
-	{ 3000, 0, 0xffff, 5 },		/* gyro bias learned */
-	{ 3500, 1, 0xffff, 5 },
-	{ 5000, 2, 0xffff, 5 },
-	{ 7000, 3, 0x8000 + 3276, 5 },	/* about 10 % */
-	{ 9000, 3, 0x8000 + 1500, 5 },
-	{ 11000, 3, 0x8000 + 900, 5 },	/* 2.747 %: done */
+	{ 0, 0, 0xffff, 1 },		/* an update from before */
+	{ 3000, 0, 0xffff, 1 },		/* gyro bias learned */
+	{ 3500, 1, 0xffff, 0 },
+	{ 5000, 2, 0xffff, 0 },
+	{ 7000, 3, 0x8000 + 3276, 0 },	/* about 10 % */
+	{ 9000, 3, 0x8000 + 1500, 0 },
+	{ 11000, 3, 0x8000 + 900, 0 },	/* 2.747 %: done */
 };
 
 /* A field of 49 uT around the simulator's hard-iron offset (uT). */
@@ -668,9 +673,9 @@ static void test_calibrate_json(void **state)
 /* Stuck at 4 %, then worse: keep and save the 4 % snapshot. */
 static const struct fake_step cal_plateau[] = {
 	{ 0, 0, 0xffff, 1 },
-	{ 500, 0, 0xffff, 2 },
-	{ 2000, 3, 0x8000 + 1311, 2 },	/* 4.0 % */
-	{ 4000, 3, 0x8000 + 1600, 2 },	/* 4.9 % */
+	{ 500, 0, 0xffff, 1 },
+	{ 2000, 3, 0x8000 + 1311, 0 },	/* 4.0 % */
+	{ 4000, 3, 0x8000 + 1600, 0 },	/* 4.9 % */
 };
 
 static void test_calibrate_timeout_keeps_best(void **state)
@@ -693,8 +698,8 @@ static void test_calibrate_timeout_keeps_best(void **state)
 
 static const struct fake_step cal_never[] = {
 	{ 0, 0, 0xffff, 1 },
-	{ 500, 0, 0xffff, 2 },
-	{ 1000, 2, 0xffff, 2 },
+	{ 500, 0, 0xffff, 1 },
+	{ 1000, 2, 0xffff, 0 },
 };
 
 static void test_calibrate_incomplete(void **state)
@@ -806,24 +811,351 @@ static void test_accel_cal_distrusts_offsets(void **state)
 }
 
 
+/*
+ * Issue 19.3: accel offsets are the user's work. After accel-cal, a save
+ * with a calibration worse than the saved file's said "not saving" and
+ * exited 0, and the offsets were lost at the next boot. They go into the
+ * saved file, which keeps its own magnetic calibration and header.
+ */
+static void test_save_keeps_accel_offsets(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	c->fb.cs.score_raw = sw_score_raw(2.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	/* later, a worse calibration and the user's new offsets */
+	c->fb.cs.score_raw = sw_score_raw(4.0);
+	sw_blob_set_param(c->fb.blob, 18, 99.0f);
+	c->fb.offset[0] = -47;
+	c->fb.offset[1] = -15;
+	c->fb.offset[2] = 46;
+	c->clk.wall_s += 60;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "saved iio:device0 accel offsets -47 -15 46 LSB to "));
+	assert_non_null(strstr(out_text(c), "the accel offsets differ from the saved file's; its calibration (status 3, score 1.999%) is kept: score 4.001% is worse"));
+	assert_true(load(c, &f));
+	assert_int_equal(f.cal_status, 3);
+	assert_int_equal(f.score_raw, sw_score_raw(2.0));
+	assert_true(sw_blob_param(f.payload, 18) == 9.0f);
+	assert_int_equal(sw_get_le32(f.payload + 4 * 26), 0xbcbbe447);
+	assert_int_equal(sw_get_le32(f.payload + 4 * 27), 0xbbefdc9c);
+	assert_int_equal(sw_get_le32(f.payload + 4 * 28), 0x3cb7e4de);
+	assert_true(f.saved_at == c->clk.wall_s);
+	/* Once: the same offsets again are no reason. */
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "not saving iio:device0 calibration"));
+	/* A better calibration takes everything, offsets included. */
+	c->fb.cs.score_raw = sw_score_raw(1.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(1.0));
+	assert_true(sw_blob_param(f.payload, 18) == 99.0f);
+	assert_int_equal(sw_get_le32(f.payload + 4 * 26), 0xbcbbe447);
+}
+
+/*
+ * Offsets with no saved file: the chip's blob as it is, even incomplete,
+ * and its restore does not wait for a status the file never had. Zero
+ * offsets (a chip not restored since power-on) never replace saved ones.
+ */
+static void test_save_offsets_without_file(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+	uint64_t t0;
+
+	c->fb.cs.status = 1;
+	c->fb.cs.score_raw = sw_score_raw(20.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_int_equal(access(c->path, F_OK), -1);
+	c->fb.offset[2] = 46;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "saved iio:device0 calibration to"));
+	assert_non_null(strstr(out_text(c), "the chip holds accel offsets and no usable file does: saving its calibration as it is, although calibration incomplete (status 1"));
+	assert_true(load(c, &f));
+	assert_int_equal(f.cal_status, 1);
+
+	/* the next boot: the chip's offsets at their power-on zero */
+	c->fb.offset[2] = 0;
+	c->fb.status_after_write = -1;
+	t0 = c->clk.now_ms;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.offset[2], 46);
+	assert_true(c->clk.now_ms - t0 < 100);
+	assert_non_null(strstr(out_text(c), "status 1, score 20.001% (saved with status 1"));
+
+	c->fb.cs.status = 3;
+	c->fb.cs.score_raw = sw_score_raw(2.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	/* a boot without a restore: offsets 0, a worse calibration */
+	c->fb.offset[2] = 0;
+	c->fb.cs.score_raw = sw_score_raw(3.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "not saving"));
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(2.0));
+	assert_int_equal(sw_g_to_lsb(sw_blob_param(f.payload, 29)), 46);
+}
+
+/* accel-cal saves what it calibrated, unless --no-save. */
+static void test_accel_cal_saves(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	c->fb.cs.score_raw = sw_score_raw(2.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->fb.cs.score_raw = sw_score_raw(4.0);
+	c->fb.bias[0] = -47;
+	c->fb.bias[2] = 46;
+	c->o.no_save = true;
+	assert_int_equal(sw_cmd_accel_cal(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "Run 'save' to keep them."));
+	assert_true(load(c, &f));
+	assert_int_equal(sw_g_to_lsb(sw_blob_param(f.payload, 27)), 0);
+
+	c->fb.bias[0] = -40;
+	c->o.no_save = false;
+	assert_int_equal(sw_cmd_accel_cal(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "saved iio:device0 accel offsets -40 0 46 LSB to "));
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(2.0));
+	assert_int_equal(sw_g_to_lsb(sw_blob_param(f.payload, 27)), -40);
+	assert_int_equal(sw_g_to_lsb(sw_blob_param(f.payload, 29)), 46);
+}
+
+/*
+ * Issue 19.4: one glitched read (a raw score of 0x0000, -100 %) looked
+ * like the best calibration and the target reached: calibrate stopped at
+ * once, the save refused the value and the good snapshot was lost. It is
+ * skipped; the good calibration that follows is saved.
+ */
+static const struct fake_step cal_glitch[] = {
+	{ 0, 0, 0xffff, 1 },
+	{ 500, 0, 0xffff, 1 },
+	{ 2000, 3, 0x8000 + 1400, 0 },	/* 4.3 % */
+	{ 3000, 3, 0x0000, 0 },		/* a bad read */
+	{ 3300, 4, 0x8000 + 100, 0 },	/* another: status 4 */
+	{ 3600, 3, 0x8000 + 1200, 0 },	/* 3.7 % */
+	{ 6000, 3, 0x8000 + 900, 0 },	/* 2.747 %: done */
+};
+
+static void test_calibrate_glitch(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	c->clk.now_ms = 0;
+	c->fb.script = cal_glitch;
+	c->fb.nsteps = sizeof(cal_glitch) / sizeof(cal_glitch[0]);
+	c->fb.blob_follows_score = true;
+	c->fb.mag = mag_sphere;
+	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_true(c->clk.now_ms >= 6000 && c->clk.now_ms < 7000);
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, 0x8000 + 900);
+	assert_true(sw_blob_param(f.payload, 18) == (float)(0x8000 + 900));
+	assert_null(strstr(out_text(c), "-100.000"));
+}
+
+/* An update flag left from before the calibration started is not one. */
+static void test_calibrate_stale_gyro_flag(void **state)
+{
+	static const struct fake_step stale[] = {
+		{ 0, 0, 0xffff, 1 },
+	};
+	struct ctx *c = *state;
+
+	c->clk.now_ms = 0;
+	c->o.timeout_s = 5;
+	c->fb.script = stale;
+	c->fb.nsteps = 1;
+	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_CAL);
+	assert_non_null(strstr(c->e.msg, "gyro bias not learned within 5 s"));
+}
+
+struct lock_probe {
+	const char *path;
+	int tries, busy;
+};
+
+/* Another writer's view at the moment the policy looks at the chip. */
+static void try_lock(struct fake_be *f)
+{
+	struct lock_probe *p = f->data;
+	struct sw_err e;
+	int fd;
+
+	sw_err_clear(&e);
+	fd = sw_file_lock_open(p->path, true, &e);
+	assert_true(fd >= 0);
+	p->tries++;
+	if (!sw_file_lock_try(fd))
+		p->busy++;
+	close(fd);
+}
+
+/*
+ * Issue 19.4: writers take turns. The lock is held from the policy's look
+ * at the saved file (the chip's identity is read just before it) to the
+ * rename, and released after.
+ */
+static void test_save_holds_lock(void **state)
+{
+	struct ctx *c = *state;
+	struct lock_probe p = { .path = c->path };
+	char lock[160];
+	struct stat st;
+	int fd;
+
+	c->fb.on_chip_info = try_lock;
+	c->fb.data = &p;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_int_equal(p.tries, 1);
+	assert_int_equal(p.busy, 1);
+	c->fb.on_chip_info = NULL;
+	fd = sw_file_lock_open(c->path, true, &c->e);
+	assert_true(sw_file_lock_try(fd));
+	close(fd);
+	snprintf(lock, sizeof(lock), "%s/.platform-sentral-sim-0x28.ws.lock",
+		 c->dir);
+	assert_int_equal(lstat(lock, &st), 0);
+	assert_int_equal(st.st_mode & 07777, 0600);
+}
+
+/*
+ * A writer that holds the lock for ever: the next one waits 30 s, then
+ * fails naming the lock file, and the saved file is untouched.
+ */
+static void test_save_lock_timeout(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+	uint64_t t0;
+	int fd;
+
+	c->fb.cs.score_raw = sw_score_raw(3.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	fd = sw_file_lock_open(c->path, true, &c->e);
+	assert_true(sw_file_lock_try(fd));
+	c->fb.cs.score_raw = sw_score_raw(1.0);
+	t0 = c->clk.now_ms;
+	assert_int_equal(save(c), SW_EXIT_IO);
+	assert_true(c->clk.now_ms - t0 >= 30000 && c->clk.now_ms - t0 < 31000);
+	assert_non_null(strstr(c->e.msg, "/.platform-sentral-sim-0x28.ws.lock: another writer of "));
+	assert_non_null(strstr(c->e.msg, "has held it for 30 s"));
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(3.0));
+	close(fd);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(1.0));
+}
+
+/* The lock file is refused through a symlink, like the saved file. */
+static void test_lock_refuses_symlink(void **state)
+{
+	struct ctx *c = *state;
+	char lock[160], target[160];
+
+	snprintf(lock, sizeof(lock), "%s/.platform-sentral-sim-0x28.ws.lock",
+		 c->dir);
+	snprintf(target, sizeof(target), "%s/elsewhere", c->dir);
+	assert_int_equal(symlink(target, lock), 0);
+	assert_int_equal(save(c), SW_EXIT_PERM);
+	assert_non_null(strstr(c->e.msg, "symbolic link"));
+	assert_int_equal(access(target, F_OK), -1);
+	assert_int_equal(access(c->path, F_OK), -1);
+}
+
+/* A refused file that a save replaced meanwhile is not moved aside. */
+static void replace_file(struct fake_be *f)
+{
+	struct ctx *c = f->data;
+	struct sw_file nf;
+	uint8_t buf[SW_FILE_SIZE];
+	struct sw_err e;
+
+	memset(&nf, 0, sizeof(nf));
+	nf.chip = f->chip;
+	nf.cal_status = 3;
+	nf.score_raw = sw_score_raw(1.5);
+	fake_fill_blob(nf.payload);
+	sw_file_encode(&nf, buf);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(c->path, buf, sizeof(buf), true,
+					      &e), SW_EXIT_OK);
+}
+
+static void test_restore_set_aside_checks_again(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->fb.chip.rom_version = 0x07a8;
+	c->fb.on_chip_info = replace_file;
+	c->fb.data = c;
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg, "not moved aside: it changed meanwhile"));
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(1.5));
+}
+
+/* What the driver's errno means, and what to do about it. */
+static void test_iio_errors(void **state)
+{
+	struct sw_err e;
+
+	(void)state;
+	sw_err_clear(&e);
+	assert_int_equal(sw_iio_err(&e, "iio:device2", "writing", "calibration_data",
+				    EBUSY, false), SW_EXIT_IO);
+	assert_string_equal(e.msg, "iio:device2: writing calibration_data: Device or resource busy: a buffer is enabled on iio:device2 (a program is streaming from it, or one that exited without disabling it): stop it, or write 0 to /sys/bus/iio/devices/iio:device2/buffer/enable");
+	sw_err_clear(&e);
+	assert_int_equal(sw_iio_err(&e, "iio:device0", "reading",
+				    "in_magn_calibration_auto_status", ENODEV,
+				    false), SW_EXIT_DEVICE);
+	assert_non_null(strstr(e.msg, "iio:device0 is gone (unbound or unplugged)"));
+	sw_err_clear(&e);
+	assert_int_equal(sw_iio_err(&e, "iio:device0", "reading",
+				    "in_magn_calibration_auto_status", ENOENT,
+				    true), SW_EXIT_DEVICE);
+	assert_non_null(strstr(e.msg, "is gone"));
+	sw_err_clear(&e);
+	assert_int_equal(sw_iio_err(&e, "iio:device0", "reading",
+				    "in_magn_calibration_update", ENOENT,
+				    false), SW_EXIT_DEVICE);
+	assert_non_null(strstr(e.msg, "no such attribute"));
+	sw_err_clear(&e);
+	assert_int_equal(sw_iio_err(&e, "iio:device0", "writing",
+				    "calibration_data", ETIMEDOUT, false),
+			 SW_EXIT_IO);
+	assert_non_null(strstr(e.msg, "did not acknowledge"));
+}
+
 /* Score in percent as the script's raw value. */
 #define PCT(p) ((uint16_t)(0x8000 + (int)((p) * 327.68 + 0.5)))
 
 /*
- * A calibration that keeps moving, the driver waking the watcher at each
- * change: saves at most every 300 s, and only 0.5 points better than the
- * saved file.
+ * A calibration that keeps moving, looked at every 30 s (the default):
+ * saves at most every 300 s, only 0.5 points better than the saved file,
+ * and each a poll after the change at most.
  */
 static const struct fake_step drifting[] = {
 	{ 0, 0, PCT(50.0), 0 },
-	{ 10000, 3, PCT(3.0), 0 },	/* first good one: saved at once */
-	{ 20000, 3, PCT(2.8), 0 },	/* 0.2 better: not worth a write */
-	{ 30000, 3, PCT(2.4), 0 },	/* 0.6 better, 20 s after the write */
-	{ 100000, 3, PCT(2.3), 0 },	/* still waiting: saved at 310 s */
+	{ 45000, 3, PCT(3.0), 0 },	/* first good one: saved at 60 s */
+	{ 75000, 3, PCT(2.8), 0 },	/* 0.2 better: not worth a write */
+	{ 105000, 3, PCT(2.4), 0 },	/* 0.6 better, 60 s after the write */
+	{ 200000, 3, PCT(2.3), 0 },	/* still waiting: saved at 360 s */
 	{ 400000, 2, PCT(10.0), 0 },	/* the field changed */
 	{ 500000, 3, PCT(2.0), 0 },	/* 0.3 better than 2.3 */
-	{ 700000, 3, PCT(1.7), 0 },	/* 0.6 better, interval past */
-	{ 800000, 3, PCT(1.7), 0 },
+	{ 700000, 3, PCT(1.7), 0 },	/* 0.6 better, interval past: 720 s */
 };
 
 static int count(const char *s, const char *what)
@@ -837,36 +1169,96 @@ static int count(const char *s, const char *what)
 	return n;
 }
 
+static int watch(struct ctx *c)
+{
+	sw_err_clear(&c->e);
+	return sw_cmd_watch(&c->fb.b, &c->o, &c->env, &c->e);
+}
+
+static void watch_defaults(struct ctx *c, const struct fake_step *steps,
+			   size_t n, uint64_t gone_ms)
+{
+	c->clk.now_ms = 0;
+	c->o.poll_s = 30;
+	c->o.interval_s = 300;
+	c->o.margin = 0.5;
+	c->fb.script = steps;
+	c->fb.nsteps = n;
+	c->fb.gone_ms = gone_ms;
+}
+
 static void test_watch(void **state)
 {
 	struct ctx *c = *state;
 	struct sw_file f;
 
-	c->clk.now_ms = 0;
-	c->o.interval_s = 300;
-	c->o.margin = 0.5;
-	c->fb.script = drifting;
-	c->fb.nsteps = sizeof(drifting) / sizeof(drifting[0]);
+	watch_defaults(c, drifting, sizeof(drifting) / sizeof(drifting[0]),
+		       800000);
 	c->fb.blob_follows_score = true;
-	/* The fake ends the watch when its script has ended. */
-	assert_int_equal(sw_cmd_watch(&c->fb.b, &c->o, &c->env, &c->e),
-			 SW_EXIT_IO);
-	assert_non_null(strstr(c->e.msg, "the script has ended"));
-	assert_false(c->fb.watching);
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
 	assert_int_equal(count(out_text(c), "saved iio:device0 calibration"), 3);
 	assert_non_null(strstr(out_text(c), "score 3.000% is within the limit"));
 	assert_non_null(strstr(out_text(c), "score 2.301% is better than the saved 3.000%"));
 	assert_non_null(strstr(out_text(c), "score 1.700% is better than the saved 2.301%"));
 	/* told once that a save waits, with when */
 	assert_int_equal(count(out_text(c), "but the last write was"), 1);
-	assert_non_null(strstr(out_text(c), "the last write was 20 s ago: saving it in 280 s"));
-	/* the snapshot of the chip at 310 s is the one saved then */
+	assert_non_null(strstr(out_text(c), "the last write was 60 s ago: saving it in 240 s"));
+	/* the snapshot of the chip at 720 s is the one saved then */
 	assert_true(load(c, &f));
 	assert_int_equal(f.score_raw, PCT(1.7));
 	assert_true(sw_blob_param(f.payload, 18) == (float)PCT(1.7));
-	/* woken by each change, and once by the end of the interval */
-	assert_int_equal(c->fb.wakeups, 8);
-	assert_int_equal(c->fb.waits, 10);
+	assert_true(f.saved_at == c->clk.wall_s);
+	/*
+	 * One look every 30 s from 0 to 780 s, and a save's look before and
+	 * after its read of the blob; the blob is read for the saves only.
+	 */
+	assert_int_equal(c->fb.state_reads, 27 + 3 * 2);
+	assert_int_equal(c->fb.reads, 3);
+}
+
+/*
+ * At the defaults a newly complete and better calibration is saved within
+ * one poll (30 s), never a minute late.
+ */
+static void test_watch_notices_within_a_poll(void **state)
+{
+	static const struct fake_step steps[] = {
+		{ 0, 1, PCT(30.0), 0 },
+		{ 61000, 3, PCT(2.7), 0 },
+	};
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	watch_defaults(c, steps, 2, 95000);
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, PCT(2.7));
+	assert_int_equal(count(out_text(c), "saved iio:device0 calibration"), 1);
+	/* polls at 0, 30, 60 and 90 s: saved at 90 s, 29 s after the change */
+	assert_int_equal(c->fb.state_reads, 4 + 2);
+}
+
+/*
+ * The device unbound or unplugged: noticed at the next look, exit 69 with
+ * a message that says so, never a loop of errors.
+ */
+static void test_watch_device_gone(void **state)
+{
+	static const struct fake_step steps[] = {
+		{ 0, 3, PCT(3.0), 0 },
+	};
+	struct ctx *c = *state;
+
+	watch_defaults(c, steps, 1, 100000);
+	c->o.poll_s = 7;
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
+	assert_int_equal(SW_EXIT_DEVICE, 69);
+	assert_true(c->clk.now_ms >= 100000 && c->clk.now_ms < 107000);
+	assert_non_null(strstr(c->e.msg, "iio:device0 is gone (unbound or unplugged)"));
+	assert_non_null(strstr(c->e.msg, "; stopped watching it"));
+	fflush(c->errf);
+	assert_int_equal(count(c->err, "error"), 0);
+	assert_null(strstr(out_text(c), "stopped watching iio:device0"));
 }
 
 /* A margin of 0: any better score is saved, an equal one never. */
@@ -879,47 +1271,80 @@ static void test_watch_margin_zero(void **state)
 	};
 	struct ctx *c = *state;
 
-	c->clk.now_ms = 0;
-	c->o.interval_s = 300;
+	watch_defaults(c, steps, 3, 900000);
 	c->o.margin = 0;
-	c->fb.script = steps;
-	c->fb.nsteps = 3;
-	assert_int_equal(sw_cmd_watch(&c->fb.b, &c->o, &c->env, &c->e),
-			 SW_EXIT_IO);
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
 	assert_int_equal(count(out_text(c), "saved iio:device0 calibration"), 2);
 }
 
+static void unlink_after_100s(struct fake_be *f)
+{
+	if (f->clk->now_ms >= 100000)
+		unlink(f->data);
+}
+
 /*
- * A state directory that cannot be used is logged, and tried again after
- * the interval and at each change, never polled faster.
+ * A state directory that cannot be used is reported once, not at every
+ * look, and the calibration is saved at the first look after it is
+ * repaired.
  */
-static void test_watch_save_fails(void **state)
+static void test_watch_state_dir_repaired(void **state)
 {
 	static const struct fake_step steps[] = {
 		{ 0, 3, PCT(3.0), 0 },
-		{ 100000, 3, PCT(3.0), 0 },
 	};
 	struct ctx *c = *state;
 	char sub[160];
 
-	c->clk.now_ms = 0;
-	c->o.interval_s = 60;
-	c->o.margin = 0.5;
-	c->fb.script = steps;
-	c->fb.nsteps = 2;
-	c->fb.end_ms = 200000;
+	watch_defaults(c, steps, 1, 200000);
 	snprintf(sub, sizeof(sub), "%s/sub", c->dir);
 	c->o.state_dir = sub;
 	/* a state directory that cannot be made: a file in its way */
 	assert_int_equal(close(open(sub, O_CREAT | O_WRONLY, 0600)), 0);
-	assert_int_equal(sw_cmd_watch(&c->fb.b, &c->o, &c->env, &c->e),
-			 SW_EXIT_IO);
+	c->fb.on_chip_info = unlink_after_100s;
+	c->fb.data = sub;
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
 	fflush(c->errf);
-	/* at 0, 60, 100 (a change) and 160 s */
-	assert_int_equal(count(c->err, "sentral-warmstart: error:"), 4);
-	assert_int_equal(count(out_text(c), "watch: trying again in 60 s"), 4);
-	assert_int_equal(count(out_text(c), "saved iio"), 0);
-	unlink(sub);
+	assert_int_equal(count(c->err, "sentral-warmstart: error:"), 1);
+	assert_int_equal(count(out_text(c), "watch: looking again every 30 s"), 1);
+	assert_int_equal(count(out_text(c), "saved iio:device0 calibration"), 1);
+	snprintf(sub, sizeof(sub), "%s/sub/platform-sentral-sim-0x28.ws", c->dir);
+	assert_int_equal(access(sub, F_OK), 0);
+}
+
+/*
+ * Accel offsets written (accel-cal, calibbias) are saved by the watcher
+ * too, once, into the saved file: its worse-or-equal calibration does not
+ * replace the better one saved.
+ */
+static void test_watch_saves_offsets(void **state)
+{
+	static const struct fake_step steps[] = {
+		{ 0, 3, PCT(2.0), 0 },
+		{ 100000, 3, PCT(2.2), 0 },
+	};
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	watch_defaults(c, steps, 2, 1000000);
+	c->fb.offset[0] = 12;
+	c->fb.nsteps = 1;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->fb.nsteps = 2;
+	c->clk.now_ms = 0;
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
+	assert_int_equal(count(out_text(c), "saved iio:device0"), 1);
+	/* the user's offsets, a minute later */
+	c->fb.offset[0] = -47;
+	c->fb.offset[2] = 46;
+	c->clk.now_ms = 0;
+	c->fb.gone_ms = 1000000;
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
+	assert_int_equal(count(out_text(c), "saved iio:device0 accel offsets -47 0 46 LSB"), 1);
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, PCT(2.0));
+	assert_int_equal(sw_g_to_lsb(sw_blob_param(f.payload, 27)), -47);
+	assert_int_equal(sw_g_to_lsb(sw_blob_param(f.payload, 29)), 46);
 }
 
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
@@ -953,9 +1378,22 @@ int main(void)
 		T(test_accel_cal),
 		T(test_accel_cal_refusals),
 		T(test_accel_cal_distrusts_offsets),
+		T(test_save_keeps_accel_offsets),
+		T(test_save_offsets_without_file),
+		T(test_accel_cal_saves),
+		T(test_calibrate_glitch),
+		T(test_calibrate_stale_gyro_flag),
+		T(test_save_holds_lock),
+		T(test_save_lock_timeout),
+		T(test_lock_refuses_symlink),
+		T(test_restore_set_aside_checks_again),
+		T(test_iio_errors),
 		T(test_watch),
+		T(test_watch_notices_within_a_poll),
+		T(test_watch_device_gone),
 		T(test_watch_margin_zero),
-		T(test_watch_save_fails),
+		T(test_watch_state_dir_repaired),
+		T(test_watch_saves_offsets),
 	};
 
 	return cmocka_run_group_tests_name("commands", tests, NULL, NULL);

@@ -138,6 +138,50 @@ static void test_force(void **state)
 	assert_true(decide(1, 50.0, false, 0, 0, true, why, sizeof(why)));
 }
 
+/*
+ * Accel offsets that differ from the saved file's are kept whatever the
+ * score: put into the file, or with no usable file, saved with the chip's
+ * blob as it is. A better calibration still saves everything.
+ */
+static void test_offsets(void **state)
+{
+	struct sw_policy_in in = {
+		.status = 3, .score_raw = sw_score_raw(4.5),
+		.max_score = SW_DEFAULT_MAX_SCORE, .have_old = true,
+		.old_status = 3, .old_score_raw = sw_score_raw(2.0),
+		.offsets_differ = true,
+	};
+	char why[256];
+
+	(void)state;
+	assert_int_equal(sw_policy_save(&in, why, sizeof(why)), SW_SAVE_OFFSETS);
+	assert_string_equal(why, "the accel offsets differ from the saved file's; its calibration (status 3, score 1.999%) is kept: score 4.501% is worse than the saved file's 1.999%; not replacing a good calibration (use --force)");
+	/* watch's margin, an incomplete calibration: the same */
+	in.improve_only = true;
+	in.margin = 0.5;
+	in.score_raw = sw_score_raw(1.8);
+	assert_int_equal(sw_policy_save(&in, why, sizeof(why)), SW_SAVE_OFFSETS);
+	in.status = 1;
+	assert_int_equal(sw_policy_save(&in, why, sizeof(why)), SW_SAVE_OFFSETS);
+	/* better by the margin: the whole blob, offsets and all */
+	in.status = 3;
+	in.score_raw = sw_score_raw(1.0);
+	assert_int_equal(sw_policy_save(&in, why, sizeof(why)), SW_SAVE_BLOB);
+	/* no usable file: the chip's blob as it is */
+	in.have_old = false;
+	in.status = 1;
+	in.score_raw = sw_score_raw(30.0);
+	assert_int_equal(sw_policy_save(&in, why, sizeof(why)), SW_SAVE_BLOB);
+	assert_non_null(strstr(why, "saving its calibration as it is, although calibration incomplete (status 1"));
+	/* never from a bad read */
+	in.score_raw = 0x0000;
+	assert_int_equal(sw_policy_save(&in, why, sizeof(why)), SW_SAVE_NOTHING);
+	/* the same offsets are no reason */
+	in.score_raw = sw_score_raw(30.0);
+	in.offsets_differ = false;
+	assert_int_equal(sw_policy_save(&in, why, sizeof(why)), SW_SAVE_NOTHING);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -148,6 +192,7 @@ int main(void)
 		cmocka_unit_test(test_never_worse_than_good_file),
 		cmocka_unit_test(test_force),
 		cmocka_unit_test(test_improve_only),
+		cmocka_unit_test(test_offsets),
 	};
 
 	return cmocka_run_group_tests_name("policy", tests, NULL, NULL);
