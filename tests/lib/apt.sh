@@ -3,9 +3,12 @@
 #
 # apt_install_missing NEED...: each NEED is "command-or-file:package"; the
 # packages of the needs not met are installed with apt (as root or sudo).
+# With APT_TARGET=SUITE they come from that suite (apt_backports_source),
+# and only they: the install stops before it would upgrade a package or
+# take any other one from there.
 
 apt_install_missing() {
-	local n what pkg sudo= missing=()
+	local n what pkg sudo='' missing=() target=() sim
 
 	for n in "$@"; do
 		what=${n%%:*} pkg=${n#*:}
@@ -21,8 +24,87 @@ apt_install_missing() {
 	missing=($(printf '%s\n' "${missing[@]}" | sort -u))
 	echo "prepare: installing ${missing[*]}"
 	[ "$(id -u)" -eq 0 ] || sudo=sudo
+	if [ -n "${APT_TARGET:-}" ]; then
+		apt_backports_source "$APT_TARGET" || return 1
+		target=(-t "$APT_TARGET")
+	fi
 	# Others may hold the dpkg lock (unattended upgrades, a parallel build).
 	$sudo apt-get -o DPkg::Lock::Timeout=600 update -qq
+	if [ -n "${APT_TARGET:-}" ]; then
+		sim=$(apt-get -s "${target[@]}" install --no-install-recommends "${missing[@]}" |
+			awk -v t="$APT_TARGET" -v want=" ${missing[*]} " '
+				$1 == "Inst" && ($3 ~ /^\[/ || (index($0, ":" t " ") &&
+					!index(want, " " $2 " "))) { print }')
+		if [ -n "$sim" ]; then
+			printf 'prepare: %s would also change:\n%s\n' "$APT_TARGET" "$sim" >&2
+			return 1
+		fi
+	fi
 	DEBIAN_FRONTEND=noninteractive $sudo apt-get -o DPkg::Lock::Timeout=600 \
-		install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+		install -y -qq --no-install-recommends "${target[@]}" "${missing[@]}" >/dev/null
+}
+
+# apt_backports_source SUITE: make the apt suite SUITE (trixie-backports)
+# available, from the mirror and with the keyring of the entry for this
+# system's release, pinned at priority 1 so that nothing installed is ever
+# upgraded from it or from its base release: only what is installed from it
+# by name (apt-get install -t SUITE PACKAGE) comes from there.
+apt_backports_source() {
+	local suite=$1 base=${1%-backports} codename uri='' key='' f
+	local list=/etc/apt/sources.list.d/sentral-$1.sources
+	local pref=/etc/apt/preferences.d/sentral-$1
+	local sudo=''
+
+	[ "$(id -u)" -eq 0 ] || sudo=sudo
+	if [ ! -f "$pref" ]; then
+		printf 'Package: *\nPin: release n=%s\nPin-Priority: 1\n\n' \
+			"$base" "$suite" | $sudo tee "$pref" >/dev/null
+	fi
+	[ -f "$list" ] && return 0
+	# shellcheck disable=SC1091
+	codename=$(. /etc/os-release && echo "$VERSION_CODENAME")
+	# deb822 entries first (Debian 12's default), then one-line ones.
+	for f in /etc/apt/sources.list.d/*.sources; do
+		[ -f "$f" ] || continue
+		read -r uri key < <(awk -v want="$codename" '
+			function flush() {
+				if (deb && has) { print uri, key; found = 1; exit }
+				deb = has = 0; uri = key = ""
+			}
+			/^[[:space:]]*$/ { flush(); next }
+			/^#/ { next }
+			tolower($1) == "types:" { for (i = 2; i <= NF; i++) if ($i == "deb") deb = 1 }
+			tolower($1) == "uris:" { uri = $2 }
+			tolower($1) == "suites:" { for (i = 2; i <= NF; i++) if ($i == want) has = 1 }
+			tolower($1) == "signed-by:" { key = $2 }
+			END { if (!found) flush() }' "$f") || true
+		[ -z "$uri" ] || break
+	done
+	if [ -z "$uri" ]; then
+		for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
+			[ -f "$f" ] || continue
+			read -r uri key < <(awk -v want="$codename" '
+				$1 != "deb" { next }
+				{
+					key = ""; i = 2
+					if ($2 ~ /^\[/) {
+						for (; i <= NF; i++) {
+							if ($i ~ /^\[?signed-by=/) {
+								key = $i; sub(/^\[?signed-by=/, "", key); sub(/\]$/, "", key)
+							}
+							if ($i ~ /\]$/) { i++; break }
+						}
+					}
+					if ($(i + 1) == want) { print $i, key; exit }
+				}' "$f") || true
+			[ -z "$uri" ] || break
+		done
+	fi
+	if [ -z "$uri" ]; then
+		echo "apt: no apt source for $codename to take a mirror from" >&2
+		return 1
+	fi
+	key=${key:-/usr/share/keyrings/debian-archive-keyring.gpg}
+	printf 'Types: deb\nURIs: %s\nSuites: %s\nComponents: main\nSigned-By: %s\n' \
+		"$uri" "$suite" "$key" | $sudo tee "$list" >/dev/null
 }
