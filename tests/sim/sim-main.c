@@ -311,7 +311,7 @@ static struct sentral_sim *sim_chip_new(const char *dir)
 	struct sentral_sim *sim;
 	int ret;
 
-	sim = kzalloc(sizeof(*sim), GFP_KERNEL);
+	sim = kzalloc_obj(*sim, GFP_KERNEL);
 	if (!sim)
 		return ERR_PTR(-ENOMEM);
 	sim_model_init(sim);
@@ -436,7 +436,7 @@ static struct sim_bus *sim_bus_new(unsigned int n, bool mux)
 	unsigned int i;
 	int ret;
 
-	bus = kzalloc(sizeof(*bus), GFP_KERNEL);
+	bus = kzalloc_obj(*bus, GFP_KERNEL);
 	if (!bus)
 		return ERR_PTR(-ENOMEM);
 	bus->mux = mux;

@@ -17,6 +17,7 @@
 #include <linux/string.h>
 
 #include "sentral_sim.h"
+#include "sim_compat.h"
 
 /* Fixed identity, EM7180 register reference §1 */
 #define SIM_PRODUCT_ID		0x80
@@ -724,8 +725,8 @@ void sim_power_on(struct sentral_sim *sim, ktime_t now)
 void sim_model_init(struct sentral_sim *sim)
 {
 	spin_lock_init(&sim->lock);
-	hrtimer_init(&sim->timer, CLOCK_MONOTONIC, HRTIMER_MODE_ABS);
-	sim->timer.function = sim_timer_fn;
+	hrtimer_setup(&sim->timer, sim_timer_fn, CLOCK_MONOTONIC,
+		      HRTIMER_MODE_ABS);
 
 	sim->cal_duration_ms = 5000;
 	sim->gbias_period_ms = 2000;

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-2.0 */
 /*
- * The kernel API differences between Linux 6.1 and 6.12 that the simulator
- * meets, in one place (as em7180_compat.h does for the driver).
+ * The kernel API differences between Linux 6.1, 6.12 and 7.2 that the
+ * simulator meets, in one place (as em7180_compat.h does for the driver).
  */
 #ifndef SIM_COMPAT_H
 #define SIM_COMPAT_H
@@ -20,6 +20,28 @@
 #define sim_mux_add_adapter(muxc, chan)	i2c_mux_add_adapter(muxc, 0, chan)
 #else
 #define sim_mux_add_adapter(muxc, chan)	i2c_mux_add_adapter(muxc, 0, chan, 0)
+#endif
+
+/*
+ * hrtimer_setup() came in 6.13 and replaced hrtimer_init(), which later
+ * kernels no longer have.
+ */
+#if KERNEL_VERSION(6, 13, 0) > LINUX_VERSION_CODE
+#include <linux/hrtimer.h>
+
+static inline void hrtimer_setup(struct hrtimer *timer,
+				 enum hrtimer_restart (*function)(struct hrtimer *),
+				 clockid_t clock_id, enum hrtimer_mode mode)
+{
+	hrtimer_init(timer, clock_id, mode);
+	timer->function = function;
+}
+#endif
+
+/* The typed allocators came in 7.0; checkpatch asks for them since */
+#include <linux/slab.h>
+#ifndef kzalloc_obj
+#define kzalloc_obj(obj, gfp)	kzalloc(sizeof(obj), gfp)
 #endif
 
 #endif /* SIM_COMPAT_H */

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: GPL-2.0-only */
 /*
- * The few kernel API differences between Linux 6.1 and 6.12 that the EM7180
- * driver meets. A mainline submission drops this file and keeps the 6.12
+ * The few kernel API differences between Linux 6.1, 6.12 and 7.2 that the
+ * EM7180 driver meets. The driver is written for 7.2; this file gives older
+ * kernels what they lack. A mainline submission drops it and keeps the 7.2
  * spelling of each item.
  */
 #ifndef _EM7180_COMPAT_H_
@@ -47,6 +48,67 @@ static inline int em7180_suspend_triggering(struct iio_dev *indio_dev)
 static inline int em7180_resume_triggering(struct iio_dev *indio_dev)
 {
 	return 0;
+}
+#endif
+
+/*
+ * sysfs passes binary attributes as const since 6.16: to the read and write
+ * callbacks, and in an attribute group's list.
+ */
+#if KERNEL_VERSION(6, 16, 0) <= LINUX_VERSION_CODE
+#define em7180_bin_attribute	const struct bin_attribute
+#else
+#define em7180_bin_attribute	struct bin_attribute
+#endif
+
+/* Symbol namespaces are string literals since 6.13 (commit cdd30ebb1b9f) */
+#if KERNEL_VERSION(6, 13, 0) > LINUX_VERSION_CODE
+#include <linux/export.h>
+#include <linux/module.h>
+
+#undef EXPORT_SYMBOL_NS_GPL
+#undef MODULE_IMPORT_NS
+#if KERNEL_VERSION(6, 5, 0) <= LINUX_VERSION_CODE
+#define EXPORT_SYMBOL_NS_GPL(sym, ns)	__EXPORT_SYMBOL(sym, "GPL", ns)
+#else
+#define EXPORT_SYMBOL_NS_GPL(sym, ns)	__EXPORT_SYMBOL(sym, "_gpl", ns)
+#endif
+#define MODULE_IMPORT_NS(ns)		MODULE_INFO(import_ns, ns)
+#endif
+
+/*
+ * The bool-returning pair that sparse can check came in 6.15; it replaced
+ * iio_device_claim_direct_mode(), which later kernels no longer have.
+ */
+#if KERNEL_VERSION(6, 15, 0) > LINUX_VERSION_CODE
+#include <linux/iio/iio.h>
+
+static inline bool iio_device_claim_direct(struct iio_dev *indio_dev)
+{
+	if (iio_device_claim_direct_mode(indio_dev))
+		return false;
+	__acquire(indio_dev);
+	return true;
+}
+
+static inline void iio_device_release_direct(struct iio_dev *indio_dev)
+{
+	iio_device_release_direct_mode(indio_dev);
+	__release(indio_dev);
+}
+#endif
+
+/* 6.16 added the push that checks the scan's storage against scan_bytes */
+#if KERNEL_VERSION(6, 16, 0) > LINUX_VERSION_CODE
+#include <linux/iio/buffer.h>
+
+static inline int iio_push_to_buffers_with_ts(struct iio_dev *indio_dev,
+					      void *data, size_t data_total_len,
+					      s64 timestamp)
+{
+	if (unlikely(data_total_len < indio_dev->scan_bytes))
+		return -ENOSPC;
+	return iio_push_to_buffers_with_timestamp(indio_dev, data, timestamp);
 }
 #endif
 

@@ -50,4 +50,4 @@ module_i2c_driver(em7180_i2c_driver);
 MODULE_AUTHOR("The sentral project");
 MODULE_DESCRIPTION("PNI SENtral / EM7180 sensor-fusion hub I2C driver");
 MODULE_LICENSE("GPL");
-MODULE_IMPORT_NS(IIO_EM7180);
+MODULE_IMPORT_NS("IIO_EM7180");

@@ -125,7 +125,7 @@ const struct regmap_config em7180_regmap_config = {
 	 */
 	.cache_type = REGCACHE_FLAT,
 };
-EXPORT_SYMBOL_NS_GPL(em7180_regmap_config, IIO_EM7180);
+EXPORT_SYMBOL_NS_GPL(em7180_regmap_config, "IIO_EM7180");
 
 /* Scaled output units, EM7180 register reference §1 "Units and scaling" */
 static const int em7180_accel_scale[] = { 0, 4785645 };	/* 0.000488 g */
@@ -481,16 +481,15 @@ static int em7180_read_raw_multi(struct iio_dev *indio_dev,
 	case IIO_CHAN_INFO_RAW:
 		if (chan->type == IIO_ROT && max_len < 4)
 			return -EINVAL;
-		ret = iio_device_claim_direct_mode(indio_dev);
-		if (ret)
-			return ret;
+		if (!iio_device_claim_direct(indio_dev))
+			return -EBUSY;
 		if (chan->type == IIO_ROT) {
 			ret = em7180_read_quat(data, vals);
 			*val_len = 4;
 		} else {
 			ret = em7180_read_raw_vec(data, chan, vals);
 		}
-		iio_device_release_direct_mode(indio_dev);
+		iio_device_release_direct(indio_dev);
 		return ret;
 	case IIO_CHAN_INFO_SCALE:
 		return em7180_read_scale(chan, &vals[0], &vals[1]);
@@ -536,9 +535,8 @@ static int em7180_write_raw(struct iio_dev *indio_dev,
 	if (val2)
 		return -EINVAL;
 
-	ret = iio_device_claim_direct_mode(indio_dev);
-	if (ret)
-		return ret;
+	if (!iio_device_claim_direct(indio_dev))
+		return -EBUSY;
 
 	switch (mask) {
 	case IIO_CHAN_INFO_SAMP_FREQ:
@@ -554,7 +552,7 @@ static int em7180_write_raw(struct iio_dev *indio_dev,
 		break;
 	}
 
-	iio_device_release_direct_mode(indio_dev);
+	iio_device_release_direct(indio_dev);
 	return ret;
 }
 
@@ -699,7 +697,7 @@ static int em7180_wait_scan(struct em7180_data *data)
  * all day never blocks a save: the transfer runs between two scans.
  */
 static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
-				     struct bin_attribute *attr, char *buf,
+				     em7180_bin_attribute *attr, char *buf,
 				     loff_t off, size_t count)
 {
 	struct iio_dev *indio_dev = dev_to_iio_dev(kobj_to_dev(kobj));
@@ -770,9 +768,8 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 		vals[i] = get_unaligned_le32(&buf[4 * i]);
 
-	ret = iio_device_claim_direct_mode(indio_dev);
-	if (ret)
-		return ret;
+	if (!iio_device_claim_direct(indio_dev))
+		return -EBUSY;
 
 	mutex_lock(&data->lock);
 	ret = em7180_cal_sync(data);
@@ -790,14 +787,14 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 	}
 	mutex_unlock(&data->lock);
 
-	iio_device_release_direct_mode(indio_dev);
+	iio_device_release_direct(indio_dev);
 
 	return ret;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_restore);
 
 static ssize_t calibration_data_write(struct file *filp, struct kobject *kobj,
-				      struct bin_attribute *attr, char *buf,
+				      em7180_bin_attribute *attr, char *buf,
 				      loff_t off, size_t count)
 {
 	return em7180_warmstart_restore(dev_to_iio_dev(kobj_to_dev(kobj)),
@@ -824,7 +821,7 @@ static struct attribute *em7180_attrs[] = {
 	NULL
 };
 
-static struct bin_attribute *em7180_bin_attrs[] = {
+static em7180_bin_attribute *em7180_bin_attrs[] = {
 	&bin_attr_calibration_data,
 	NULL
 };
@@ -939,7 +936,8 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 		}
 	}
 
-	iio_push_to_buffers_with_timestamp(indio_dev, data->scan, ts);
+	iio_push_to_buffers_with_ts(indio_dev, data->scan, sizeof(data->scan),
+				    ts);
 
 done:
 	if (own)
@@ -1488,7 +1486,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 
 	return devm_iio_device_register(dev, indio_dev);
 }
-EXPORT_SYMBOL_NS_GPL(em7180_core_probe, IIO_EM7180);
+EXPORT_SYMBOL_NS_GPL(em7180_core_probe, "IIO_EM7180");
 
 /**
  * em7180_chip_suspend() - keep the calibration and put the algorithm in standby
