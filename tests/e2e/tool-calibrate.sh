@@ -7,7 +7,8 @@
 # covered; with a spin about Z alone it times out and says that the device
 # has only turned about its Z axis. Prints the figures of the guidance:
 # seconds from the start of the motion to status 3, coverage at the end and
-# how many of the regions the tool shows the chip has seen.
+# how many of the regions the tool shows the chip has seen. Then accel-cal
+# saves its offsets, which a power cycle and a restore bring back.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -122,5 +123,26 @@ completes i2c figure8 90 --i2c "/dev/i2c-$bus"
 spin_times_out i2c --i2c "/dev/i2c-$bus"
 is "transfer mode ended" "$(dbg_get state transfer)" 0
 ok "bind the driver again" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
+
+# accel-cal saves by itself: its offsets survive a power cycle, restored
+# with the rest of the warm start.
+ok "the driver is back" wait_for 5 em7180_dir
+DEV=$(em7180_dir)
+f=$STATE/$(sentral-warmstart key).ws
+ok "calibrated by simulated motion" calibrate_by_motion
+ok "and saved" sentral-warmstart save
+out=$(sentral-warmstart accel-cal --samples 32 2>&1)
+is "accel-cal: exit 0" $? 0
+echo "$out" | sed 's/^/# /'
+like "it saved by itself" "$out" "saved iio:device[0-9]+ .*to $f"
+is "the file holds the offsets (Table 1)" "$(words 27 29 "$(file_payload_words "$f")")" "$TABLE1 "
+ok "replug: unbind, power cycle, bind" replug "$client"
+DEV=$(em7180_dir)
+is "power cycle lost the offsets" "$(cat "$DEV"/in_accel_{x,y,z}_calibbias | tr '\n' ' ')" "0 0 0 "
+ok "restore" sentral-warmstart restore
+is "the offsets are back" "$(cat "$DEV"/in_accel_{x,y,z}_calibbias | tr '\n' ' ')" "-47 -15 46 "
+out=$(sentral-warmstart accel-cal --samples 32 --no-save 2>&1)
+like "accel-cal --no-save says how to keep them" "$out" "Run 'save' to keep them\.$"
+nok "and saved nothing" grep -q "^saved" <<<"$out"
 
 done_testing

@@ -42,6 +42,11 @@ is "parameters 27..29 are Table 1 bit for bit" \
 	"$(sim_param 27) $(sim_param 28) $(sim_param 29)" "$TABLE1"
 like "output now 0 0 2048 within noise" "$out" \
 	'output now -?[0-9]\.[0-9] -?[0-9]\.[0-9] 20[45][0-9]\.[0-9] LSB'
+# Nothing saved yet: the offsets go with the chip's blob as it is.
+like "accel-cal saves the offsets by itself" "$out" \
+	"saved iio:device[0-9]+ calibration to $f: the chip holds accel offsets and no usable file does"
+is "the file holds Table 1" "$(words 27 29 "$(file_payload_words "$f")")" "$TABLE1 "
+is "and the status it was saved with (incomplete)" "$(od -An -tu1 -j16 -N1 "$f" | tr -d ' ')" 0
 
 # Guided calibration: still (gyro bias), then figure-8 (simulated motion).
 knob gbias_period_ms 200
@@ -59,7 +64,9 @@ like "and saved" "$out" "saved iio:device[0-9]+ calibration to $f"
 ok "file exists" test -f "$f"
 is "file mode 0600" "$(stat -c %a "$f")" 600
 is "state dir mode 0700" "$(stat -c %a "$STATE")" 700
-is "no temporary file left" "$(ls -A "$STATE" | wc -l)" 1
+is "no temporary file left, only the writers' lock file" \
+	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws "
+is "the lock file is 0600" "$(stat -c %a "$STATE/.$key.ws.lock")" 600
 ok "show accepts it" sentral-warmstart show "$f"
 # The identity comes from the driver's attributes, not from i2c-dev.
 is "the file's identity is the driver's attributes" \
@@ -175,7 +182,15 @@ echo 1 >"$DEV/buffer0/in_accel_x_en"
 if echo 1 >"$DEV/buffer0/enable"; then
 	out=$(sentral-warmstart restore 2>&1)
 	is "restore during buffered capture: exit 74" $? 74
-	like "and says why" "$out" "buffered capture is running"
+	like "and says what to stop" "$out" \
+		"a buffer is enabled on $(basename "$DEV") \(a program is streaming from it, or one that exited without disabling it\): stop it, or write 0 to /sys/bus/iio/devices/$(basename "$DEV")/buffer/enable"
+	out=$(sentral-warmstart accel-cal --samples 8 2>&1)
+	is "accel-cal during buffered capture: exit 74" $? 74
+	like "with the same hint" "$out" "write 0 to /sys/bus/iio/devices/$(basename "$DEV")/buffer/enable"
+	out=$(sentral-warmstart save --force --file /tmp/streaming.ws 2>&1)
+	is "save reads while it streams: exit 0" $? 0
+	ok "and wrote a valid file" sentral-warmstart show /tmp/streaming.ws
+	ok "status reads while it streams" sentral-warmstart status
 	echo 0 >"$DEV/buffer0/enable"
 else
 	ok "buffer could not be enabled (skipped the -EBUSY check)" false

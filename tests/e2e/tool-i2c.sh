@@ -93,11 +93,13 @@ ok "save --force after restore" sentral-warmstart $i2c save --force --file /tmp/
 is "round trip payload identical" "$(file_payload_words /tmp/i2c2.ws)" "$payload"
 
 # accel-cal over i2c-dev: parameters 27..29 as float g, Table 1 exactly.
-out=$(sentral-warmstart $i2c accel-cal --samples 32 2>&1)
+out=$(sentral-warmstart $i2c accel-cal --samples 32 --file /tmp/i2c-accel.ws 2>&1)
 is "accel-cal over i2c-dev: exit 0" $? 0
 echo "$out" | sed 's/^/# /'
 is "parameters 27..29 are Table 1 bit for bit" \
 	"$(sim_param 27) $(sim_param 28) $(sim_param 29)" "$TABLE1"
+like "and saved by itself" "$out" "saved /dev/i2c-[0-9]+@0x28 .*to /tmp/i2c-accel.ws"
+is "the saved file holds them" "$(words 27 29 "$(file_payload_words /tmp/i2c-accel.ws)")" "$TABLE1 "
 
 # Faults: the transfer is always ended.
 knob ack_never 1
