@@ -104,11 +104,11 @@ for d in "$B" "$C"; do
 done
 wait_for 5 grep -q "^watching" /tmp/race-a.log
 
-logs="/tmp/race-a.log /tmp/race-$B.log /tmp/race-$C.log"
+logs=(/tmp/race-a.log "/tmp/race-$B.log" "/tmp/race-$C.log")
 # Replacements of M, and W left at the end of a round.
 twice=0 worse=0 unchanged=0
 for r in $(seq 1 "$ROUNDS"); do
-	for l in $logs; do echo "round $r" >>"$l"; done
+	for l in "${logs[@]}"; do echo "round $r" >>"$l"; done
 	flock -w 30 "$lock" sh -c "cp /tmp/m.ws '$STATE/.m.tmp' && mv -f '$STATE/.m.tmp' '$f'"
 	wait_for 10 not_m || unchanged=$((unchanged + 1))
 	# A W that came first is replaced by the watcher within a poll and
@@ -116,19 +116,19 @@ for r in $(seq 1 "$ROUNDS"); do
 	wait_for 6 holds_g
 	sleep 1
 	holds_g || { worse=$((worse + 1)); echo "# round $r ends with raw score $(score_of "$f")"; }
-	n=$(cat $logs | awk -v r="round $r" '$0 == r { on = 1; next } /^round / { on = 0 }
+	n=$(cat "${logs[@]}" | awk -v r="round $r" '$0 == r { on = 1; next } /^round / { on = 0 }
 		on && /^saved .*than the saved 4\.501%/' | wc -l)
 	[ "$n" -le 1 ] || { twice=$((twice + 1)); echo "# round $r: $n writers replaced M"; }
 done
 touch /tmp/race-stop
 kill -TERM "$watcher"
 wait
-echo "# $(cat $logs | grep -c '^saved ') saves in $ROUNDS rounds, $(cat $logs | grep -c '^not saving') refusals"
-grep -h "error" $logs | sort | uniq -c | sed 's/^/# /'
+echo "# $(cat "${logs[@]}" | grep -c '^saved ') saves in $ROUNDS rounds, $(cat "${logs[@]}" | grep -c '^not saving') refusals"
+grep -h "error" "${logs[@]}" | sort | uniq -c | sed 's/^/# /'
 is "M replaced in every round" "$unchanged" 0
 is "no round where two writers replaced M (each judged by the file the other had replaced)" "$twice" 0
 is "no round ends with W over G" "$worse" 0
 ok "the file is valid" sentral-warmstart show "$f"
-nok "no writer failed" grep -q "error" $logs
+nok "no writer failed" grep -q "error" "${logs[@]}"
 
 done_testing

@@ -107,9 +107,11 @@ for u in sentral-warmstart@.service sentral-warmstart-restore@.service; do
 		"$(grep '^Exec' "$units/$u")" "--device %I "
 done
 is "the instance unescaped is the key" "$(systemd-escape --unescape "$inst")" "$key"
-is "the saving unit wants the restoring one, and does not require it" \
-	"$(grep -E '^(Wants|Requires|Requisite)=' "$units/sentral-warmstart@.service")" \
-	"Wants=sentral-warmstart-restore@%i.service"
+like "the saving unit wants the restoring one" \
+	"$(grep '^Wants=' "$units/sentral-warmstart@.service")" \
+	"(^|"$'\n'")Wants=sentral-warmstart-restore@%i.service($|"$'\n'")"
+is "and requires nothing" \
+	"$(grep -E '^(Requires|Requisite)=' "$units/sentral-warmstart@.service")" ""
 like "the restore runs at start, fails on a refused file" \
 	"$(grep '^Exec' "$units/sentral-warmstart-restore@.service")" \
 	"^ExecStart=[^-].* restore --if-present$"
