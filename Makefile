@@ -20,7 +20,7 @@
 
 KDIR     ?= /lib/modules/$(shell uname -r)/build
 # Test kernels: each version, and 6.12 with the sanitisers (tests/uml/config-san)
-VERSIONS ?= 6.12 6.1 6.12-san
+VERSIONS ?= 7.2 6.12 6.1 6.12-san
 TOOL     := tools/sentral-warmstart
 
 all: modules tool
@@ -41,7 +41,8 @@ prepare:
 uml: prepare
 	@for v in $(VERSIONS); do tests/uml/build $$v || exit 1; done
 
-# kunit.py builds its own kernel per version; flavours run the suite in UML.
+# kunit.py builds its own kernel per version; flavours run the suite in UML
+# (as make check does for every kernel, tests/kernel/kunit-uml).
 kunit: prepare
 	@for v in $(VERSIONS); do \
 		case $$v in \
@@ -51,7 +52,8 @@ kunit: prepare
 	done
 
 # Only the test kernels that a selected suite boots are built: make check
-# leaves 6.12-san to make check-long (tests/long-suites).
+# leaves 6.12-san to make check-long (tests/long-suites), and 6.12 is built
+# for its lint and KUnit suites.
 check: prepare tool
 	@for v in $$(VERSIONS="$(VERSIONS)" tests/run-suites --list | sed -n 's|/.*||p' | sort -u); do \
 		tests/uml/build $$v || exit 1; \
