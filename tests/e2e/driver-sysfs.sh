@@ -50,8 +50,13 @@ is "in_magn_calibration_auto_status at power-on" "$(cat "$DEV/in_magn_calibratio
 is "in_magn_calibration_score at power-on (raw 49152)" "$(cat "$DEV/in_magn_calibration_score")" 50.000
 is "in_magn_transient 0" "$(cat "$DEV/in_magn_transient")" 0
 knob mag_transient 2
+is "in_magn_transient within 0.5 s of the last read: the same read's" \
+	"$(cat "$DEV/in_magn_transient")" 0
+# The calibration attributes share one read of the chip for 0.5 s
+sleep 0.6
 is "in_magn_transient 2 (bits 3:2)" "$(cat "$DEV/in_magn_transient")" 2
 knob mag_transient 3
+sleep 0.6
 is "in_magn_transient 3" "$(cat "$DEV/in_magn_transient")" 3
 knob mag_transient 0
 like "in_anglvel_calibration_update a flag" "$(cat "$DEV/in_anglvel_calibration_update")" '^[01]$'

@@ -10,12 +10,12 @@
 #define _EM7180_H_
 
 #include <linux/bits.h>
-#include <linux/completion.h>
 #include <linux/iio/iio.h>
 #include <linux/mutex.h>
 #include <linux/pm.h>
 #include <linux/regmap.h>
 #include <linux/types.h>
+#include <linux/wait.h>
 
 #define EM7180_REG_QX			0x00	/* float32 x, y, z, w */
 #define EM7180_REG_QTIME		0x10	/* u16 LE, 1/32768 s */
@@ -176,11 +176,13 @@ struct iio_trigger;
  * @orientation: mount matrix from firmware
  * @timestamp: time of the last data-ready interrupt, written by the hard handler
  * @scan_ts: time of the interrupt of the scan being captured
+ * @scan_fresh: that scan was read and is no repeat: push it
  * @xfer_seq: parameter transfers ended, counted before the algorithm resumes
  * @irq_seq: @xfer_seq at the last data-ready interrupt
  * @poll_seq: @xfer_seq at the last poll of another device's trigger
- * @scan_seq: @irq_seq of the interrupt of the scan being captured
- * @scan_done: completed after each scan of the data-ready trigger
+ * @scans: data-ready interrupts served while the trigger ran
+ * @scan_seq: @xfer_seq at the last of them
+ * @scan_wq: woken after each of them
  * @burst: raw sensor registers of one scan
  * @last_burst: the registers of the scan pushed last
  * @last_start: first register of @last_burst
@@ -211,11 +213,13 @@ struct em7180_data {
 	struct iio_mount_matrix orientation;
 	s64 timestamp;
 	s64 scan_ts;
+	bool scan_fresh;
 	unsigned int xfer_seq;
 	unsigned int irq_seq;
 	unsigned int poll_seq;
+	unsigned int scans;
 	unsigned int scan_seq;
-	struct completion scan_done;
+	wait_queue_head_t scan_wq;
 	u8 burst[EM7180_BURST_LEN];
 	u8 last_burst[EM7180_BURST_LEN];
 	unsigned int last_start;
@@ -264,7 +268,6 @@ enum em7180_cal_attr {
 ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 			char *buf);
 void em7180_cal_update(struct em7180_cal *cal, const u8 *regs);
-int em7180_cal_sync(struct em7180_data *data);
 void em7180_cal_saved(struct em7180_data *data);
 
 #endif /* _EM7180_H_ */

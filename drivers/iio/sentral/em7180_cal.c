@@ -53,17 +53,17 @@ void em7180_cal_update(struct em7180_cal *cal, const u8 *regs)
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_update);
 
 /*
- * Read the block unless @fresh allows the last read, younger than
- * EM7180_CAL_MAX_AGE_MS; a failed read leaves nothing to serve later.
+ * Read the block unless the last read is younger than EM7180_CAL_MAX_AGE_MS;
+ * a failed read leaves nothing to serve later.
  */
-static int em7180_cal_refresh(struct em7180_data *data, bool fresh)
+static int em7180_cal_refresh(struct em7180_data *data)
 {
 	u8 regs[EM7180_CAL_BLOCK_LEN];
 	int ret;
 
 	lockdep_assert_held(&data->lock);
 
-	if (!fresh && data->cal.valid &&
+	if (data->cal.valid &&
 	    time_before(jiffies, data->cal.read_at +
 			msecs_to_jiffies(EM7180_CAL_MAX_AGE_MS)))
 		return 0;
@@ -80,29 +80,19 @@ static int em7180_cal_refresh(struct em7180_data *data, bool fresh)
 }
 
 /**
- * em7180_cal_sync() - take in the flags the chip holds, before a transfer
- * @data: driver state, with @data->lock held
- *
- * The chip latches an update until 0x44 is read: one latched before a
- * warm start transfer belongs to the state the transfer saves or replaces,
- * and must not show after it. em7180_cal_saved() then clears the flags.
- *
- * Return: 0 or the bus error.
- */
-int em7180_cal_sync(struct em7180_data *data)
-{
-	return em7180_cal_refresh(data, true);
-}
-EXPORT_SYMBOL_IF_KUNIT(em7180_cal_sync);
-
-/**
  * em7180_cal_saved() - the warm start was read or written: no update since
  * @data: driver state, with @data->lock held
+ *
+ * The transfer took in the flags the chip had latched (em7180_param_ack()):
+ * those updates belong to the state it saved or replaced. A restore
+ * changes status and score at once: the next attribute read reads the
+ * chip again.
  */
 void em7180_cal_saved(struct em7180_data *data)
 {
 	lockdep_assert_held(&data->lock);
 	data->cal.flags = 0;
+	data->cal.valid = false;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_saved);
 
@@ -114,7 +104,7 @@ ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 	int ret, milli;
 
 	scoped_guard(mutex, &data->lock) {
-		ret = em7180_cal_refresh(data, false);
+		ret = em7180_cal_refresh(data);
 		cal = data->cal;
 	}
 	if (ret)

@@ -293,7 +293,9 @@ static void em7180_test_param_read_sequence(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, emu->n_log, 6U);
 	expect_xfer(test, emu, 0, true, EM7180_REG_PARAM_REQ, &req, 1);
 	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &start, 1);
-	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL, 5);
+	/* the first poll reads on through the calibration registers */
+	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL,
+		    EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK);
 	expect_ended(test, emu);
 }
 
@@ -312,8 +314,12 @@ static void em7180_test_param_write_sequence(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, emu->n_log, 6U);
 	expect_xfer(test, emu, 0, true, EM7180_REG_LOAD_PARAM, burst, 5);
 	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &start, 1);
-	/* a write polls the acknowledge byte alone */
-	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL, 1);
+	/*
+	 * a write polls the acknowledge byte alone, but for the transfer's
+	 * first poll, which reads on through the calibration registers
+	 */
+	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL,
+		    EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK);
 	expect_ended(test, emu);
 }
 
@@ -1200,31 +1206,36 @@ static void em7180_test_cal_fold(struct kunit *test)
 }
 
 /*
- * The flags stay set, however often the chip is read, until the warm start
- * is read or written; one the chip latched before that is taken in first.
+ * The flags stay set until the warm start is read or written; one the chip
+ * latched before that is taken in by the transfer's first poll, in the
+ * same transaction, and cleared with it.
  */
 static void em7180_test_cal_flags_until_saved(struct kunit *test)
 {
 	struct em7180_test *t = test->priv;
 	struct em7180_data *data = &t->data;
+	unsigned int before;
+	u32 val;
 
 	guard(mutex)(&data->lock);
-	t->emu.regs[EM7180_REG_CAL_FLAGS] = EM7180_CAL_FLAG_MAG_UPDATE;
-	KUNIT_ASSERT_EQ(test, em7180_cal_sync(data), 0);
-	KUNIT_EXPECT_EQ(test, t->emu.regs[EM7180_REG_CAL_FLAGS], 0);
-	KUNIT_ASSERT_EQ(test, em7180_cal_sync(data), 0);
-	KUNIT_EXPECT_EQ(test, data->cal.flags, EM7180_CAL_FLAG_MAG_UPDATE);
-
-	/* latched on the chip, unread, before a save: not an update since */
 	t->emu.regs[EM7180_REG_CAL_FLAGS] = EM7180_CAL_FLAG_GBIAS_UPDATE;
-	KUNIT_ASSERT_EQ(test, em7180_cal_sync(data), 0);
+	t->emu.regs[EM7180_REG_CAL_STATUS] = 3;
+	before = t->emu.transactions;
+	KUNIT_ASSERT_EQ(test, em7180_params_read(data, 1, 1, &val), 0);
+	/* request, bit 7, one poll, the stop and its poll, bit 7 clear */
+	KUNIT_EXPECT_EQ(test, t->emu.transactions - before, 6U);
+	KUNIT_EXPECT_EQ(test, t->emu.regs[EM7180_REG_CAL_FLAGS], 0);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE);
+	KUNIT_EXPECT_EQ(test, data->cal.status, 3);
 	em7180_cal_saved(data);
-	KUNIT_ASSERT_EQ(test, em7180_cal_sync(data), 0);
 	KUNIT_EXPECT_EQ(test, data->cal.flags, 0);
-
-	t->emu.nack_at = t->emu.transactions + 1;
-	KUNIT_EXPECT_EQ(test, em7180_cal_sync(data), -EIO);
 	KUNIT_EXPECT_FALSE(test, data->cal.valid);
+
+	/* a write takes them in too */
+	t->emu.regs[EM7180_REG_CAL_FLAGS] = EM7180_CAL_FLAG_MAG_UPDATE;
+	KUNIT_ASSERT_EQ(test, em7180_params_write(data, 1, 1, &val), 0);
+	KUNIT_EXPECT_EQ(test, t->emu.regs[EM7180_REG_CAL_FLAGS], 0);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, EM7180_CAL_FLAG_MAG_UPDATE);
 }
 
 static struct kunit_case em7180_cal_cases[] = {

@@ -56,6 +56,8 @@
 #define EM7180_EVENT_READ_TRIES		3
 /* Longest scan period: the magnetometer's slowest rate, 1 Hz */
 #define EM7180_SCAN_WAIT_MS		1100
+/* Scans a transfer waits for while others take their turn */
+#define EM7180_SCAN_WAIT_TRIES		8
 
 static const struct regmap_range em7180_readable_ranges[] = {
 	regmap_reg_range(EM7180_REG_QX, EM7180_REG_ERROR),
@@ -672,24 +674,38 @@ int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_check);
 
 /*
- * While the data-ready trigger paces a capture, a transfer waits for the
- * next scan: the algorithm pauses for the transfer (no samples, no
+ * While the data-ready trigger paces a capture, a transfer starts right
+ * after a scan: the algorithm pauses for the transfer (no samples, no
  * interrupts), so no sample from before the pause is left unread and the
- * gap in the stream is the transfer plus at most one period. A stream
- * that brings no scan within the slowest period (1 s) is not waited for.
+ * gap in the stream is the transfer plus at most one period. One transfer
+ * per scan: a second one waits for the next scan, so that readers in a
+ * loop cannot stop the stream. A stream that brings no scan within the
+ * slowest period (1 s) is not waited for. Returns 0 with data->lock held,
+ * or the error of an interrupted wait without it.
  */
-static int em7180_wait_scan(struct em7180_data *data)
+static int em7180_lock_between_scans(struct em7180_data *data)
 {
+	unsigned int scans, tries = EM7180_SCAN_WAIT_TRIES;
 	long ret;
 
-	if (!READ_ONCE(data->pace_event))
-		return 0;
+	while (READ_ONCE(data->pace_event) && tries--) {
+		scans = READ_ONCE(data->scans);
+		ret = wait_event_killable_timeout(data->scan_wq,
+						  READ_ONCE(data->scans) != scans ||
+						  !READ_ONCE(data->pace_event),
+						  msecs_to_jiffies(EM7180_SCAN_WAIT_MS));
+		if (ret < 0)
+			return ret;
+		if (!ret)
+			break;
+		mutex_lock(&data->lock);
+		if (data->scan_seq == data->xfer_seq)
+			return 0;
+		mutex_unlock(&data->lock);
+	}
 
-	reinit_completion(&data->scan_done);
-	ret = wait_for_completion_killable_timeout(&data->scan_done,
-						   msecs_to_jiffies(EM7180_SCAN_WAIT_MS));
-
-	return ret < 0 ? ret : 0;
+	mutex_lock(&data->lock);
+	return 0;
 }
 
 /*
@@ -713,17 +729,16 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 	if (ret)
 		return ret;
 
-	ret = em7180_wait_scan(data);
+	ret = em7180_lock_between_scans(data);
 	if (ret)
 		return ret;
 
-	guard(mutex)(&data->lock);
-	ret = em7180_cal_sync(data);
-	if (!ret)
-		ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM,
-					 EM7180_WS_NUM_PARAMS, vals);
-	if (ret)
+	ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM,
+				 EM7180_WS_NUM_PARAMS, vals);
+	if (ret) {
+		mutex_unlock(&data->lock);
 		return ret;
+	}
 
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 		put_unaligned_le32(vals[i], &buf[4 * i]);
@@ -732,6 +747,7 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 		memcpy(data->ws, buf, EM7180_WS_SIZE);
 	em7180_accel_offset_set(data, vals);
 	em7180_cal_saved(data);
+	mutex_unlock(&data->lock);
 
 	return EM7180_WS_SIZE;
 }
@@ -772,10 +788,8 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 		return -EBUSY;
 
 	mutex_lock(&data->lock);
-	ret = em7180_cal_sync(data);
-	if (!ret)
-		ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
-					  EM7180_WS_NUM_PARAMS, vals);
+	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
+				  EM7180_WS_NUM_PARAMS, vals);
 	if (!ret) {
 		memcpy(data->ws, buf, EM7180_WS_SIZE);
 		data->ws_valid = true;
@@ -854,21 +868,95 @@ static unsigned int em7180_burst_end(const struct iio_chan_spec *hi)
 	}
 }
 
+/* The registers a scan of @mask reads in one burst: 0 for the timestamp alone */
+static unsigned int em7180_scan_span(const unsigned long *mask,
+				     unsigned int *start)
+{
+	unsigned int lo = find_first_bit(mask, EM7180_SCAN_TIMESTAMP);
+	unsigned int hi = find_last_bit(mask, EM7180_SCAN_TIMESTAMP);
+
+	if (lo >= EM7180_SCAN_TIMESTAMP)
+		return 0;
+
+	*start = em7180_channels[lo].address;
+	return em7180_burst_end(&em7180_channels[hi]) - *start;
+}
+
 /*
- * Copy the enabled channels out of one burst that spans them, in scan
- * order; the quaternion floats become fixed point on the way.
+ * Read the registers of a scan of @mask into data->burst. @fresh tells
+ * whether they differ from the last scan read with @own, the chip's own
+ * trigger: a sample that arrives between the EventStatus read and the
+ * burst is read by the burst of the previous interrupt, and its own
+ * interrupt then finds the same registers again. The burst includes the
+ * TIME register of the last sensor it covers, so unchanged registers mean
+ * the same samples, which are not pushed twice. Any other trigger samples
+ * whatever the chip holds.
+ */
+static int em7180_scan_read(struct em7180_data *data,
+			    const unsigned long *mask, bool own, bool *fresh)
+{
+	unsigned int start = 0, len = em7180_scan_span(mask, &start);
+	int ret;
+
+	lockdep_assert_held(&data->lock);
+
+	*fresh = true;
+	if (!len)
+		return 0;
+
+	ret = regmap_bulk_read(data->regmap, start, data->burst, len);
+	if (ret || !own)
+		return ret;
+
+	*fresh = data->last_len != len || data->last_start != start ||
+		 memcmp(data->last_burst, data->burst, len);
+	memcpy(data->last_burst, data->burst, len);
+	data->last_start = start;
+	data->last_len = len;
+	return 0;
+}
+
+/*
+ * Push the enabled channels out of data->burst, in scan order; the
+ * quaternion floats become fixed point on the way.
+ */
+static void em7180_scan_push(struct iio_dev *indio_dev,
+			     const unsigned long *mask, s64 ts)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+	unsigned int bit, start = 0, pos = 0;
+	const u8 *src;
+	int i;
+	s16 q;
+
+	em7180_scan_span(mask, &start);
+	for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP) {
+		src = &data->burst[em7180_channels[bit].address - start];
+		if (bit != EM7180_SCAN_QUAT) {
+			memcpy(&data->scan[pos], src, 2);
+			pos += 2;
+			continue;
+		}
+		for (i = 0; i < 4; i++) {
+			q = em7180_quat_component(&src[4 * i]);
+			memcpy(&data->scan[pos], &q, sizeof(q));
+			pos += sizeof(q);
+		}
+	}
+
+	iio_push_to_buffers_with_ts(indio_dev, data->scan, sizeof(data->scan),
+				    ts);
+}
+
+/*
+ * With the chip's own trigger the scan was read by em7180_irq_thread(),
+ * which runs this handler nested, in the same lock section as the
+ * EventStatus read. With another trigger it is read here.
  *
- * A sample that arrives between the EventStatus read and the burst is read
- * by the burst of the previous interrupt, and its own interrupt then finds
- * the same registers again. The burst includes the TIME register of the
- * last sensor it covers, so unchanged registers mean the same samples: with
- * the chip's own trigger such a scan is not pushed twice. Any other trigger
- * samples whatever the chip holds.
- *
- * A parameter transfer that ended after the interrupt or trigger poll of
- * this scan held it up while the algorithm paused and ran again: the
- * registers may now hold a sample newer than the scan's timestamp, so
- * nothing is pushed (em7180_wait_scan() makes that rare).
+ * A parameter transfer that ended after the interrupt or the trigger poll
+ * of a scan held it up while the algorithm paused and ran again: the
+ * registers may then hold a sample newer than the scan's timestamp, so
+ * nothing is pushed (em7180_lock_between_scans() makes that rare).
  */
 static irqreturn_t em7180_trigger_handler(int irq, void *p)
 {
@@ -882,66 +970,26 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 	 * take the poll function's time, which nothing set on this path.
 	 */
 	bool own = data->trig && indio_dev->trig == data->trig;
-	unsigned int seq = own ? data->scan_seq : READ_ONCE(data->poll_seq);
-	const struct iio_chan_spec *lo, *hi;
-	unsigned int bit, start, len, pos = 0;
-	s64 ts = pf->timestamp;
-	bool again = false;
-	const u8 *src;
-	int i, ret;
-	s16 q;
+	unsigned int seq = READ_ONCE(data->poll_seq);
+	bool fresh = false;
+	int ret = -EAGAIN;
 
-	if (own)
-		ts = data->scan_ts;
-	if (!ts)
-		ts = iio_get_time_ns(indio_dev);
-
-	bit = find_first_bit(mask, EM7180_SCAN_TIMESTAMP);
-	if (bit < EM7180_SCAN_TIMESTAMP) {
-		lo = &em7180_channels[bit];
-		hi = &em7180_channels[find_last_bit(mask, EM7180_SCAN_TIMESTAMP)];
-		start = lo->address;
-		len = em7180_burst_end(hi) - start;
-
-		mutex_lock(&data->lock);
-		if (seq != data->xfer_seq) {
-			mutex_unlock(&data->lock);
-			goto done;
-		}
-		ret = regmap_bulk_read(data->regmap, start, data->burst, len);
-		if (!ret && own) {
-			again = data->last_len == len &&
-				data->last_start == start &&
-				!memcmp(data->last_burst, data->burst, len);
-			memcpy(data->last_burst, data->burst, len);
-			data->last_start = start;
-			data->last_len = len;
-		}
-		mutex_unlock(&data->lock);
-		if (ret || again)
-			goto done;
-
-		for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP) {
-			src = &data->burst[em7180_channels[bit].address - start];
-			if (bit != EM7180_SCAN_QUAT) {
-				memcpy(&data->scan[pos], src, 2);
-				pos += 2;
-				continue;
-			}
-			for (i = 0; i < 4; i++) {
-				q = em7180_quat_component(&src[4 * i]);
-				memcpy(&data->scan[pos], &q, sizeof(q));
-				pos += sizeof(q);
-			}
-		}
+	if (own) {
+		if (data->scan_fresh)
+			em7180_scan_push(indio_dev, mask, data->scan_ts);
+		WRITE_ONCE(data->scans, data->scans + 1);
+		wake_up_all(&data->scan_wq);
+		goto done;
 	}
 
-	iio_push_to_buffers_with_ts(indio_dev, data->scan, sizeof(data->scan),
-				    ts);
+	scoped_guard(mutex, &data->lock) {
+		if (seq == data->xfer_seq)
+			ret = em7180_scan_read(data, mask, false, &fresh);
+	}
+	if (!ret)
+		em7180_scan_push(indio_dev, mask, pf->timestamp);
 
 done:
-	if (own)
-		complete_all(&data->scan_done);
 	iio_trigger_notify_done(indio_dev->trig);
 	return IRQ_HANDLED;
 }
@@ -989,7 +1037,9 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	s64 ts = READ_ONCE(data->timestamp);
 	unsigned int seq = READ_ONCE(data->irq_seq);
 	unsigned int status, err = 0;
-	int ret, err_ret = 0, tries = EM7180_EVENT_READ_TRIES;
+	int ret, err_ret = 0, scan_ret = -EAGAIN;
+	int tries = EM7180_EVENT_READ_TRIES;
+	bool scan = false, fresh = false;
 
 	mutex_lock(&data->lock);
 	do {
@@ -998,8 +1048,17 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	} while (ret && --tries);
 	if (!ret && (status & EM7180_EVENT_ERROR))
 		err_ret = regmap_read(data->regmap, EM7180_REG_ERROR, &err);
-	if (!ret && (status & EM7180_EVENT_CPU_RESET))
+	if (!ret && (status & EM7180_EVENT_CPU_RESET)) {
 		em7180_chip_recover(data);
+	} else if (!ret && (status & EM7180_EVENT_DATA) && data->pace_event) {
+		/* The burst in the same lock section: no transfer in between */
+		scan = true;
+		data->scan_seq = data->xfer_seq;
+		if (seq == data->xfer_seq)
+			scan_ret = em7180_scan_read(data,
+						    indio_dev->active_scan_mask,
+						    true, &fresh);
+	}
 	mutex_unlock(&data->lock);
 	if (ret) {
 		dev_err_ratelimited(data->dev,
@@ -1014,11 +1073,10 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	else if (status & EM7180_EVENT_ERROR)
 		dev_err_ratelimited(data->dev, "chip error 0x%02x\n", err);
 
-	if ((status & EM7180_EVENT_DATA) &&
-	    !(status & EM7180_EVENT_CPU_RESET)) {
+	if (scan) {
 		/* The trigger handler runs nested, in this thread */
-		data->scan_ts = ts;
-		data->scan_seq = seq;
+		data->scan_ts = ts ?: iio_get_time_ns(indio_dev);
+		data->scan_fresh = !scan_ret && fresh;
 		em7180_trigger_poll_nested(data->trig);
 	}
 
@@ -1084,6 +1142,9 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 	WRITE_ONCE(data->pace_event,
 		   state && mask ? em7180_pace_event(data, mask) : 0);
 	events |= data->pace_event;
+	/* No scan comes any more: transfers waiting for one go ahead */
+	if (!state)
+		wake_up_all(&data->scan_wq);
 	/* A new capture: nothing pushed yet that a scan could repeat */
 	data->last_len = 0;
 	ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS, events);
@@ -1420,7 +1481,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	data->regmap = regmap;
 	data->irq = max(irq, 0);
 	mutex_init(&data->lock);
-	init_completion(&data->scan_done);
+	init_waitqueue_head(&data->scan_wq);
 	em7180_param_init(data);
 	dev_set_drvdata(dev, indio_dev);
 
@@ -1590,6 +1651,7 @@ static int em7180_chip_restore(struct em7180_data *data, bool *lost,
 	}
 	*lost = true;
 	data->ack_known = false;
+	data->cal.valid = false;
 
 	ret = em7180_wait_firmware(data, &status);
 	if (ret) {

@@ -215,11 +215,16 @@ static void em7180_param_sleep(unsigned int us)
  * struct em7180_batch - acknowledge timing learned within one transfer
  * @missed: a poll of this batch came before the acknowledge
  * @best_us: shortest time after a request at which an acknowledge was seen
+ * @cal_read: a poll of this batch read the calibration registers
  */
 struct em7180_batch {
 	bool missed;
 	unsigned int best_us;
+	bool cal_read;
 };
+
+/* ParamAcknowledge through the calibration score: 0x3A..0x4E */
+#define EM7180_ACK_CAL_LEN	(EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK)
 
 /*
  * Poll ParamAcknowledge. For a read (val not NULL) one burst also returns
@@ -236,6 +241,10 @@ struct em7180_batch {
  * as sufficient (a sleep may overrun, so a poll planned too early can still
  * succeed), and taking the shortest keeps one overrun from slowing down
  * the rest of the batch.
+ *
+ * The first poll of a transfer reads on through the calibration registers
+ * (em7180_cal_update()): the algorithm is paused, so every update flag the
+ * chip latched before the transfer is taken in, in the same transaction.
  */
 static int em7180_param_ack(struct em7180_data *data, u8 req, u32 *val,
 			    struct em7180_batch *batch)
@@ -244,18 +253,27 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u32 *val,
 	unsigned int wait = data->ack_wait_us;
 	unsigned int waited;
 	bool first = true;
-	u8 ack[5];
-	size_t len = val ? sizeof(ack) : 1;
+	u8 ack[EM7180_ACK_CAL_LEN];
+	size_t len;
 	int ret;
 
 	for (;;) {
 		em7180_param_sleep(wait);
 		waited = min_t(s64, ktime_us_delta(ktime_get(), start),
 			       EM7180_ACK_TIMEOUT_US);
+		if (batch && !batch->cal_read)
+			len = EM7180_ACK_CAL_LEN;
+		else
+			len = val ? 5 : 1;
 		ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, ack,
 				       len);
 		if (ret)
 			return ret;
+		if (len == EM7180_ACK_CAL_LEN) {
+			em7180_cal_update(&data->cal, &ack[EM7180_REG_CAL_STATUS -
+							   EM7180_REG_PARAM_ACK]);
+			batch->cal_read = true;
+		}
 		if (ack[0] == req)
 			break;
 		if (waited >= EM7180_ACK_TIMEOUT_US)
