@@ -1,14 +1,18 @@
 #!/bin/bash
 # SPDX-License-Identifier: GPL-2.0-only
 #
-# Runs on the HOST: power pulled. Two boots of the UML machine sharing one
-# state directory (tests/uml/run --udev --state DIR):
-#   1. sentral-warmstart watch runs (as sentral-warmstart@.service runs it);
-#      the chip is calibrated by simulated motion and the watcher saves by
-#      itself; then the machine is killed (SIGKILL to the UML processes): no
+# Runs on the HOST: power pulled under an application that streams. Two
+# boots of the UML machine sharing one state directory (tests/uml/run
+# --udev --state DIR):
+#   1. an application streams (iio_readdev through the driver's trigger)
+#      from before the calibration to the end; sentral-warmstart watch runs
+#      (as sentral-warmstart@.service runs it); the chip is calibrated by
+#      simulated motion and the watcher saves by itself while the stream
+#      runs; then the machine is killed (SIGKILL to the UML processes): no
 #      shutdown, no stop action, no sync;
 #   2. udev restores at probe: in_magn_calibration_auto_status is 3 without
-#      any motion and the chip's blob equals the saved payload.
+#      any motion and the chip's blob equals the saved payload; the
+#      application streams again.
 # The host script calls itself inside the machine with the boot's name.
 set -u
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
@@ -23,13 +27,23 @@ if [ "${1:-}" = --inside ]; then
 	f=$STATE/$key.ws
 	case $2 in
 	first)
-		sentral-warmstart --device "$key" watch >/tmp/watch.log 2>&1 &
+		iio_readdev -b 16 -s 0 em7180 rot_quaternion accel_x accel_y \
+			accel_z timestamp >/tmp/stream.bin 2>/tmp/stream.err &
+		spid=$!
+		ok "an application streams" wait_for 10 grep -qx 1 "$DEV/buffer/enable"
+		sentral-warmstart --device "$key" watch --poll 1 >/tmp/watch.log 2>&1 &
 		ok "the watcher runs" wait_for 5 grep -q "^watching" /tmp/watch.log
 		ok "simulated figure-8 until calibrated" calibrate_by_motion
-		ok "the watcher saved by itself" \
+		ok "the watcher saved by itself while the stream ran" \
 			wait_for 10 grep -q "saved iio:device[0-9]* calibration" /tmp/watch.log
 		sed 's/^/#   watch: /' /tmp/watch.log
 		ok "a valid file" sentral-warmstart show "$f"
+		is "the buffer stayed enabled" "$(cat "$DEV/buffer/enable")" 1
+		n=$(dbg_get samples quaternion_read)
+		sleep 0.5
+		ok "the application still streams (the driver reads samples)" \
+			test "$(dbg_get samples quaternion_read)" -gt "$n"
+		ok "and iio_readdev still runs" kill -0 "$spid"
 		# No shutdown from here on: the host kills the machine.
 		echo "$MARK"
 		sleep 600
@@ -45,6 +59,9 @@ if [ "${1:-}" = --inside ]; then
 		is "the chip's blob equals the saved payload (but the gyro bias)" \
 			"$(words 1 32 "$(blob_words <"$DEV/calibration_data")")" \
 			"$(words 1 32 "$(file_payload_words "$f")")"
+		ok "the application streams again" sh -c "iio_readdev -b 16 -s 100 \
+			em7180 rot_quaternion timestamp >/tmp/stream.bin"
+		is "100 scans" "$(stat -c %s /tmp/stream.bin)" 1600
 		done_testing
 		;;
 	esac
@@ -77,7 +94,7 @@ fi
 wait "$run"
 sed 's/^/#   /' "$out"
 is "boot 1: calibrated, saved by the watcher, then the power pulled" "$pulled" 1
-ok "boot 1's checks passed before it was killed" grep -q "^ok .* - the watcher saved by itself" "$out"
+ok "boot 1's checks passed before it was killed" grep -q "^ok .* - and iio_readdev still runs" "$out"
 nok "and none failed" grep -q "^not ok" "$out"
 nok "boot 1 never shut down" grep -q "reboot: Power down" "$out"
 n=$(ls "$state"/*.ws 2>/dev/null | wc -l)
