@@ -42,7 +42,7 @@ uml: prepare
 	@for v in $(VERSIONS); do tests/uml/build $$v || exit 1; done
 
 # kunit.py builds its own kernel per version; flavours run the suite in UML
-# (as make check does for every kernel but 6.1, tests/kernel/kunit-uml).
+# (as make check does for every kernel, tests/kernel/kunit-uml).
 kunit: prepare
 	@for v in $(VERSIONS); do \
 		case $$v in \

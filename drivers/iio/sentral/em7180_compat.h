@@ -112,4 +112,16 @@ static inline int iio_push_to_buffers_with_ts(struct iio_dev *indio_dev,
 }
 #endif
 
+/*
+ * 6.1 runs the KUnit suites of a module while it is still coming, before
+ * its sysfs directory exists (6.12 runs them once it is live): a root
+ * device registered by the suite then cannot link to its module.
+ */
+#if KERNEL_VERSION(6, 12, 0) > LINUX_VERSION_CODE
+#include <linux/device.h>
+
+#undef root_device_register
+#define root_device_register(name)	__root_device_register(name, NULL)
+#endif
+
 #endif /* _EM7180_COMPAT_H_ */
