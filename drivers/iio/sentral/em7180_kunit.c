@@ -214,6 +214,10 @@ static void em7180_test_exit(struct kunit *test)
 {
 	struct em7180_test *t = test->priv;
 
+	/* init failed before it set up anything */
+	if (!t)
+		return;
+
 	regmap_exit(t->data.regmap);
 	root_device_unregister(t->dev);
 }
@@ -392,6 +396,12 @@ static void em7180_test_param_stale_ack(struct kunit *test)
 					    "ack_end %d round %u", modes[i], round);
 			KUNIT_ASSERT_EQ(test, test_params_read(t, 27, 1, &val), 0);
 			emu->params[27] = a;
+			/*
+			 * The log holds 256 transactions: on a slow host the
+			 * polls of the rounds before would fill it, and the
+			 * end checked would not be this transfer's.
+			 */
+			emu->n_log = 0;
 			KUNIT_ASSERT_EQ(test, test_params_read(t, 27, 1, &val), 0);
 			KUNIT_EXPECT_EQ_MSG(test, val, a, "ack_end %d round %u",
 					    modes[i], round);
