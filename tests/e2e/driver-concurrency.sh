@@ -60,12 +60,13 @@ ws_writer() {
 # read adds nothing; anything but whole blobs fails the check).
 # Reads work while a capture runs: each pauses the chip's algorithm for a
 # transfer (about 30 ms, longer in UML), so back-to-back readers would leave
-# the stream few samples; they read five times a second each.
+# the stream few samples; they read twice a second each, far more often than
+# any saver does.
 ws_reader() {
 	while ((EPOCHSECONDS < END)); do
 		dd if="$DEV/calibration_data" bs=4096 status=none 2>"$T/e.$1" >>"$T/reads.$1"
 		result $? "$1"
-		sleep 0.2
+		sleep 0.5
 	done >"$T/log.$1"
 }
 
