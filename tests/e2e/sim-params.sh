@@ -19,6 +19,7 @@ is "default param 75 (gyro 2000 dps)" "$(param_get 75)" 0x000007d0
 
 is "state: no transfer started yet" "$(dbg_get state transfer_started_us)" 0
 is "state: no transfer ended yet" "$(dbg_get state transfer_ended_us)" 0
+is "state: no transfer length yet" "$(dbg_get state transfer_longest_us)" 0
 knob stats 0
 ok "set AlgorithmControl bit 7" param_begin
 ok "state: transfer_started_us set" [ "$(dbg_get state transfer_started_us)" -gt 0 ]
@@ -46,6 +47,9 @@ ok "state: transfer_ended_us on CLOCK_MONOTONIC, when bit 7 was cleared" \
 	[ "$t0" -le "$t1" -a "$t1" -le "$t2" ]
 ok "state: the transfer started before it ended" \
 	[ "$(dbg_get state transfer_started_us)" -lt "$t0" ]
+is "state: transfer_longest_us is this transfer's length" \
+	"$(dbg_get state transfer_longest_us)" \
+	$((t1 - $(dbg_get state transfer_started_us)))
 is "ack reads 0 after the end" "$(sim_rd 0x3a)" 0x00
 is "AlgorithmControl 0" "$(sim_rd 0x54)" 0x00
 is "parameters served" "$(dbg_get stats params_served)" 5

@@ -148,6 +148,7 @@ struct sentral_sim {
 	u8 saved_param[4];
 	ktime_t transfer_started; /* when bit 7 was last set; 0: never */
 	ktime_t transfer_ended;	/* when bit 7 was last cleared; 0: never */
+	s64 transfer_longest_us; /* the longest time bit 7 stayed set */
 
 	/* Firmware upload from EEPROM after power-on or reset, §3 */
 	ktime_t upload_done_at;

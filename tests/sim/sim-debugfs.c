@@ -537,6 +537,7 @@ static void state_show(struct seq_file *m, struct sentral_sim *sim,
 		   ktime_to_us(sim->transfer_started));
 	seq_printf(m, "transfer_ended_us %lld\n",
 		   ktime_to_us(sim->transfer_ended));
+	seq_printf(m, "transfer_longest_us %lld\n", sim->transfer_longest_us);
 	seq_printf(m, "cal_status %u\n", sim_cal_status(sim));
 	seq_printf(m, "score_raw %u\n", sim_cal_score_raw(sim));
 	seq_printf(m, "int %d\n", sim->int_high);

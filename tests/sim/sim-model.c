@@ -883,6 +883,9 @@ static void sim_write_algo_control(struct sentral_sim *sim, u8 val,
 		if (sim->ack_end == SIM_ACK_END_CLEAR)
 			sim->param_ack = 0;
 		sim->transfer_ended = now;
+		sim->transfer_longest_us =
+			max(sim->transfer_longest_us,
+			    ktime_us_delta(now, sim->transfer_started));
 	}
 }
 
