@@ -83,7 +83,7 @@ fuzz:
 # may have, on both kernels (tests/kernel/cross).  The .deb cross-builds
 # join them once debian/ exists.
 cross:
-	@status=0; for v in 6.12 6.1; do \
+	@status=0; for v in 7.2 6.12 6.1; do \
 		tests/kernel/cross $$v arm64 armhf i386 clang || status=1; \
 	done; \
 	if [ -d debian ]; then tests/kernel/cross-deb arm64 armhf || status=1; \
