@@ -80,7 +80,7 @@ fuzz:
 	$(MAKE) -C $(TOOL) fuzz
 
 # W=1 builds of the driver and the simulator for each architecture a user
-# may have, on both kernels (tests/kernel/cross).  The .deb cross-builds
+# may have, on each kernel of the matrix (tests/kernel/cross).  The .deb cross-builds
 # join them once debian/ exists.
 cross:
 	@status=0; for v in 7.2 6.12 6.1; do \
