@@ -35,9 +35,16 @@ def targets(fdt, name):
 
 def rename(fdt, node, addr):
     """Give NODE the unit address ADDR, and update the overlay's own records
-    of its path: its label in __symbols__, its references in __fixups__."""
+    of its path: its label in __symbols__, its references in __fixups__, and
+    its twin under __local_fixups__ (that tree mirrors the overlay's paths:
+    Raspberry Pi's own overlays rename nodes that refer to the overlay's
+    labels, as mcp23017's addr does)."""
     old = fdt.get_path(node)
     base = fdt.get_name(node).split('@')[0]
+    twin = fdt.path_offset('/__local_fixups__' + old, libfdt.QUIET_NOTFOUND)
+    if twin >= 0:
+        fdt.set_name(twin, f'{base}@{addr:x}')
+        node = fdt.path_offset(old)
     fdt.set_name(node, f'{base}@{addr:x}')
     new = fdt.get_path(node)
     for table in ('/__symbols__', '/__fixups__'):
