@@ -101,6 +101,24 @@ nok "accel 5 Hz refused" sh -c "echo 5 > $DEV/in_accel_sampling_frequency"
 nok "accel 2000 Hz refused" sh -c "echo 2000 > $DEV/in_accel_sampling_frequency"
 nok "magn 0 Hz refused" sh -c "echo 0 > $DEV/in_magn_sampling_frequency"
 nok "fractional rate refused" sh -c "echo 100.5 > $DEV/in_accel_sampling_frequency"
+# Only the advertised rates: a value between two of them is refused, not
+# rounded, and nothing reaches the chip.
+knob stats 0
+for w in accel:15 accel:150 anglvel:999 anglvel:11 magn:25 magn:2; do
+	nok "${w%%:*} ${w#*:} Hz (not advertised) refused" \
+		sh -c "echo ${w#*:} > $DEV/in_${w%%:*}_sampling_frequency"
+done
+is "refused rates: no bus transaction" "$(dbg_get stats transactions)" 0
+is "rates unchanged by the refusals" \
+	"$(cat "$DEV"/in_{accel,anglvel,magn}_sampling_frequency | tr '\n' ' ')" "200 1000 50 "
+for t in accel anglvel magn; do
+	bad=
+	for r in $(cat "$DEV/in_${t}_sampling_frequency_available"); do
+		echo "$r" >"$DEV/in_${t}_sampling_frequency" &&
+			[ "$(cat "$DEV/in_${t}_sampling_frequency")" = "$r" ] || bad+=" $r"
+	done
+	is "every advertised $t rate accepted and in effect" "$bad" ""
+done
 for t in accel anglvel; do echo 100 >"$DEV/in_${t}_sampling_frequency"; done
 echo 30 >"$DEV/in_magn_sampling_frequency"
 is "rates back to the defaults" "$(cat "$DEV"/in_{accel,anglvel,magn}_sampling_frequency | tr '\n' ' ')" \

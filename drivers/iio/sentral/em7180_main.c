@@ -218,6 +218,19 @@ static s16 em7180_quat_component(const u8 *src)
 	return clamp_t(s32, q, S16_MIN, S16_MAX);
 }
 
+/* The rates the attributes advertise and accept, in Hz */
+static void em7180_freq_avail(enum iio_chan_type type, const int **vals,
+			      int *len)
+{
+	if (type == IIO_MAGN) {
+		*vals = em7180_magn_freq_avail;
+		*len = ARRAY_SIZE(em7180_magn_freq_avail);
+	} else {
+		*vals = em7180_accel_gyro_freq_avail;
+		*len = ARRAY_SIZE(em7180_accel_gyro_freq_avail);
+	}
+}
+
 static int em7180_rate_regs(enum iio_chan_type type, unsigned int *reg,
 			    unsigned int *actual, unsigned int *hz_per_lsb)
 {
@@ -269,30 +282,27 @@ static int em7180_read_freq(struct em7180_data *data,
 	return IIO_VAL_INT;
 }
 
+/* Only an advertised rate: anything else is refused before the chip is touched */
 static int em7180_write_freq(struct em7180_data *data,
 			     const struct iio_chan_spec *chan, int val)
 {
 	unsigned int reg, actual, hz_per_lsb;
 	const int *avail;
-	int n, ret;
+	int i, n, ret;
 
 	ret = em7180_rate_regs(chan->type, &reg, &actual, &hz_per_lsb);
 	if (ret)
 		return ret;
 
-	if (chan->type == IIO_MAGN) {
-		avail = em7180_magn_freq_avail;
-		n = ARRAY_SIZE(em7180_magn_freq_avail);
-	} else {
-		avail = em7180_accel_gyro_freq_avail;
-		n = ARRAY_SIZE(em7180_accel_gyro_freq_avail);
-	}
-	if (val < avail[0] || val > avail[n - 1])
+	em7180_freq_avail(chan->type, &avail, &n);
+	for (i = 0; i < n; i++)
+		if (avail[i] == val)
+			break;
+	if (i == n)
 		return -EINVAL;
 
 	mutex_lock(&data->lock);
-	ret = regmap_write(data->regmap, reg,
-			   DIV_ROUND_CLOSEST(val, hz_per_lsb));
+	ret = regmap_write(data->regmap, reg, val / hz_per_lsb);
 	mutex_unlock(&data->lock);
 
 	return ret;
@@ -516,13 +526,7 @@ static int em7180_read_avail(struct iio_dev *indio_dev,
 		return -EINVAL;
 
 	*type = IIO_VAL_INT;
-	if (chan->type == IIO_MAGN) {
-		*vals = em7180_magn_freq_avail;
-		*length = ARRAY_SIZE(em7180_magn_freq_avail);
-	} else {
-		*vals = em7180_accel_gyro_freq_avail;
-		*length = ARRAY_SIZE(em7180_accel_gyro_freq_avail);
-	}
+	em7180_freq_avail(chan->type, vals, length);
 
 	return IIO_AVAIL_LIST;
 }
