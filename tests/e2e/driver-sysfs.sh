@@ -7,6 +7,8 @@
 # 35-parameter save and restore measured with the simulator's stats.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/lib/em7180.sh"
+# param_begin, param_write, param_end: a parameter transfer over i2c-dev
+. "$SENTRAL_ROOT/tests/sim/testlib.sh"
 
 TABLE1="0xbcbbe447 0xbbefdc9c 0x3cb7e4de"
 TMP=$(mktemp -d)
@@ -235,6 +237,34 @@ out=$(dd if="$DEV/calibration_data" of=/dev/null bs=4096 2>&1)
 like "NACK during save: I/O error" "$out" "(Input/output error|No such device)"
 ok "chip left running after the NACK" chip_idle
 ok "next save works" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
+
+# A parameter the write path would refuse, put in the chip behind the
+# driver's back (i2c-dev, as another bus user or a firmware fault could):
+# a save must fail rather than hand out a blob no restore accepts, and
+# must not drop the driver's copy of the last valid calibration, which is
+# what it writes back when the chip resets itself.
+ok "restore blob b" dd if="$TMP/b" of="$DEV/calibration_data" bs=140 status=none
+SIM_BUS=$(sim_bus)
+ok "NaN written to parameter 10 over i2c-dev" \
+	eval 'param_begin && param_write 10 0x7fc00000 && param_end'
+is "the chip holds the NaN" "$(dbg_get params 10)" 0x7fc00000
+out=$(dd if="$DEV/calibration_data" of="$TMP/nan" bs=4096 2>&1)
+like "save with a non-finite parameter: I/O error" "$out" "Input/output error"
+ok "and no blob" test ! -s "$TMP/nan"
+like "the kernel log names the parameter" "$(dmesg | tail -n 20)" "em7180.*parameter 10.*0x7fc00000"
+ok "chip left running after the refused save" chip_idle
+# Parameters 1, 10 and 24 as the chip holds them, and as blob b has them
+words_1_10_24() {
+	awk '$1 == 1 || $1 == 10 || $1 == 24 { printf "%s ", $2 }' "$SIM_DBG/params"
+}
+want="$(blob_words <"$TMP/b" | awk '{ printf "%s %s %s ", $1, $10, $24 }')"
+b_restored() {
+	[ "$(words_1_10_24)" = "$want" ]
+}
+knob chip_reset 1
+ok "after the chip's own reset the driver restores the last valid blob" wait_for 5 b_restored
+is "parameters 1, 10, 24" "$(words_1_10_24)" "$want"
+ok "chip running after the reset" wait_for 5 chip_idle
 
 # Unbinding leaves the chip running, out of transfer mode, data interrupts
 # off: sentral-warmstart --i2c can then save, also on firmware that serves

@@ -254,6 +254,9 @@ int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 			   bool write);
 int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 			     loff_t off, size_t count);
+#if IS_ENABLED(CONFIG_KUNIT)
+int em7180_warmstart_read(struct em7180_data *data, u8 *buf);
+#endif
 int em7180_score_milli(u16 raw);
 
 /* Attribute addresses of em7180_cal_show() */

@@ -9,6 +9,7 @@
  */
 
 #include <kunit/test.h>
+#include <linux/cleanup.h>
 #include <linux/device.h>
 #include <linux/errno.h>
 #include <linux/ktime.h>
@@ -1118,6 +1119,67 @@ static void em7180_test_calibbias_copy(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
 }
 
+/*
+ * A parameter that is no finite float, met at suspend, does not replace
+ * the last valid warm start: that one comes back after a power loss.
+ */
+static void em7180_test_pm_nonfinite_keeps_ws(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+
+	test_configure(test, t);
+	emu->params[10] = 0x7FC00000;	/* NaN */
+
+	KUNIT_ASSERT_EQ(test, em7180_chip_suspend(&t->data), 0);
+	KUNIT_EXPECT_TRUE(test, t->data.ws_valid);
+	test_power_loss(emu);
+	KUNIT_ASSERT_EQ(test, em7180_chip_resume(&t->data), 0);
+	expect_restored(test, t, 0);
+	expect_ended(test, emu);
+}
+
+/*
+ * A calibration_data read never returns a blob that the write path
+ * refuses: a non-finite parameter fails it with -EIO, leaving the caller's
+ * buffer and the driver's valid copy as they were; a finite one succeeds.
+ */
+static void em7180_test_ws_read_nonfinite(struct kunit *test)
+{
+	static const u32 bad[] = { 0x7FC00000, 0x7F800000, 0xFF800000,
+				   0xFFFFFFFF };
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u8 buf[EM7180_WS_SIZE], ws[EM7180_WS_SIZE];
+	unsigned int i, n;
+	int ret;
+
+	test_configure(test, t);
+	memcpy(ws, t->data.ws, sizeof(ws));
+	for (i = 0; i < ARRAY_SIZE(bad); i++) {
+		n = 1 + 17 * i % EM7180_WS_NUM_PARAMS;
+		emu->params[n] = bad[i];
+		emu->n_log = 0;
+		memset(buf, 0xAA, sizeof(buf));
+		scoped_guard(mutex, &t->data.lock)
+			ret = em7180_warmstart_read(&t->data, buf);
+		KUNIT_EXPECT_EQ_MSG(test, ret, -EIO, "0x%08x", bad[i]);
+		KUNIT_EXPECT_NULL(test, memchr_inv(buf, 0xAA, sizeof(buf)));
+		KUNIT_EXPECT_TRUE(test, t->data.ws_valid);
+		KUNIT_EXPECT_EQ(test, memcmp(t->data.ws, ws, sizeof(ws)), 0);
+		expect_ended(test, emu);
+		emu->params[n] = 0x3F800000 + n - 1;
+	}
+
+	emu->params[35] = 0x80000001;	/* -0 and subnormals are finite */
+	scoped_guard(mutex, &t->data.lock)
+		ret = em7180_warmstart_read(&t->data, buf);
+	KUNIT_ASSERT_EQ(test, ret, 0);
+	KUNIT_EXPECT_EQ(test, em7180_warmstart_check(buf, 0, sizeof(buf), true), 0);
+	KUNIT_EXPECT_EQ(test, get_unaligned_le32(&buf[4 * 34]), 0x80000001U);
+	KUNIT_EXPECT_EQ(test, memcmp(t->data.ws, buf, sizeof(buf)), 0);
+}
+
 static void em7180_test_pm_no_power_loss(struct kunit *test)
 {
 	struct em7180_test *t = test->priv;
@@ -1151,6 +1213,8 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_pm_power_loss),
 	KUNIT_CASE(em7180_test_pm_power_loss_nack),
 	KUNIT_CASE(em7180_test_pm_no_power_loss),
+	KUNIT_CASE(em7180_test_pm_nonfinite_keeps_ws),
+	KUNIT_CASE(em7180_test_ws_read_nonfinite),
 	KUNIT_CASE(em7180_test_pm_live_calibration),
 	KUNIT_CASE(em7180_test_pm_offsets_without_ws),
 	KUNIT_CASE(em7180_test_pm_restore_order),

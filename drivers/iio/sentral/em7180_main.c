@@ -712,6 +712,50 @@ static int em7180_lock_between_scans(struct em7180_data *data)
 	return 0;
 }
 
+/**
+ * em7180_warmstart_read() - read the warm start from the chip
+ * @data: driver state, with @data->lock held
+ * @buf: where to put the 140-byte blob
+ *
+ * A parameter that is not a finite float would make a blob that the write
+ * path refuses, so that it could never be restored: the read fails instead,
+ * and the copy re-applied after a power loss stays the last valid one.
+ *
+ * Return: 0, -EIO when the chip holds a word that is no finite float
+ * (logged, @buf unchanged), or the error of the parameter transfer.
+ */
+VISIBLE_IF_KUNIT int em7180_warmstart_read(struct em7180_data *data, u8 *buf)
+{
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	unsigned int i;
+	int ret;
+
+	lockdep_assert_held(&data->lock);
+
+	ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM,
+				 EM7180_WS_NUM_PARAMS, vals);
+	if (ret)
+		return ret;
+
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++) {
+		if (em7180_float_is_finite(vals[i]))
+			continue;
+		dev_err_ratelimited(data->dev,
+				    "parameter %u holds 0x%08x, not a finite float: calibration not read\n",
+				    EM7180_WS_FIRST_PARAM + i, vals[i]);
+		return -EIO;
+	}
+
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		put_unaligned_le32(vals[i], &buf[4 * i]);
+	memcpy(data->ws, buf, EM7180_WS_SIZE);
+	data->ws_valid = true;
+	em7180_accel_offset_set(data, vals);
+
+	return 0;
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_read);
+
 /*
  * Reads work while a buffer is enabled, so that an application streaming
  * all day never blocks a save: the transfer runs between two scans.
@@ -722,8 +766,6 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 {
 	struct iio_dev *indio_dev = dev_to_iio_dev(kobj_to_dev(kobj));
 	struct em7180_data *data = iio_priv(indio_dev);
-	u32 vals[EM7180_WS_NUM_PARAMS];
-	unsigned int i;
 	int ret;
 
 	if (off >= EM7180_WS_SIZE)
@@ -737,23 +779,12 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 	if (ret)
 		return ret;
 
-	ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM,
-				 EM7180_WS_NUM_PARAMS, vals);
-	if (ret) {
-		mutex_unlock(&data->lock);
-		return ret;
-	}
-
-	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
-		put_unaligned_le32(vals[i], &buf[4 * i]);
-	data->ws_valid = !em7180_warmstart_check(buf, 0, EM7180_WS_SIZE, true);
-	if (data->ws_valid)
-		memcpy(data->ws, buf, EM7180_WS_SIZE);
-	em7180_accel_offset_set(data, vals);
-	em7180_cal_saved(data);
+	ret = em7180_warmstart_read(data, buf);
+	if (!ret)
+		em7180_cal_saved(data);
 	mutex_unlock(&data->lock);
 
-	return EM7180_WS_SIZE;
+	return ret ?: EM7180_WS_SIZE;
 }
 
 /**
@@ -1565,23 +1596,14 @@ EXPORT_SYMBOL_NS_GPL(em7180_core_probe, "IIO_EM7180");
  */
 int em7180_chip_suspend(struct em7180_data *data)
 {
-	u32 vals[EM7180_WS_NUM_PARAMS];
-	unsigned int i;
+	u8 buf[EM7180_WS_SIZE];
 	int ret;
 
 	mutex_lock(&data->lock);
-	ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM,
-				 EM7180_WS_NUM_PARAMS, vals);
-	if (ret) {
+	ret = em7180_warmstart_read(data, buf);
+	if (ret)
 		dev_warn(data->dev,
 			 "cannot read the calibration before sleep: %d\n", ret);
-	} else {
-		for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
-			put_unaligned_le32(vals[i], &data->ws[4 * i]);
-		data->ws_valid = !em7180_warmstart_check(data->ws, 0,
-							 EM7180_WS_SIZE, true);
-		em7180_accel_offset_set(data, vals);
-	}
 	ret = em7180_standby(data);
 	mutex_unlock(&data->lock);
 
