@@ -45,6 +45,8 @@
 
 /* i2c-dev's character major (Documentation/admin-guide/devices.txt). */
 #define I2C_DEV_MAJOR	89
+/* The longest text of an int, "-2147483648" */
+#define INT_TEXT	(sizeof("-2147483648") - 1)
 
 /* Drivers in the wild allow up to 1 s for an acknowledge. */
 #define ACK_TIMEOUT_US	1000000
@@ -203,7 +205,9 @@ static int param_wait_ack(struct i2c_be *ib, uint8_t req, uint8_t *val,
 static void mixed_note(int first, int count, int i, struct sw_err *e)
 {
 	int last = first + count - 1, p = first + i;
-	char done[32] = "", rest[48] = "";
+	/* Room for any two ints: gcc's -Wformat-truncation at -O0 knows no range. */
+	char done[2 * INT_TEXT + sizeof("- hold the new values, ")] = "";
+	char rest[2 * INT_TEXT + sizeof(", - still the old ones")] = "";
 
 	/* Nothing sent yet, or every parameter acknowledged. */
 	if (i < 0 || i >= count)

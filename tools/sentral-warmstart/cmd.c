@@ -322,7 +322,7 @@ int sw_save_wanted(struct sw_backend *b, const struct sw_opts *o,
 		   const struct sw_cal_state *cs, bool *yes, char *why,
 		   size_t len, struct sw_err *e)
 {
-	enum sw_save_what what;
+	enum sw_save_what what = SW_SAVE_NOTHING;
 	struct sw_chip_info chip;
 	char path[4096], oldwhy[256];
 	struct sw_file old;
@@ -392,7 +392,7 @@ static int save_locked(struct sw_backend *b, const struct sw_opts *o,
 		       struct sw_err *e)
 {
 	uint8_t out[SW_FILE_SIZE];
-	enum sw_save_what what;
+	enum sw_save_what what = SW_SAVE_NOTHING;
 	char why[512], oldwhy[256];
 	struct sw_file nf, old;
 	int ret, lsb[3];
