@@ -261,25 +261,15 @@ static void expect_ended(struct kunit *test, const struct em7180_emu *emu)
 static int test_params_read(struct em7180_test *t, unsigned int first,
 			    unsigned int count, u32 *vals)
 {
-	int ret;
-
-	mutex_lock(&t->data.lock);
-	ret = em7180_params_read(&t->data, first, count, vals);
-	mutex_unlock(&t->data.lock);
-
-	return ret;
+	guard(mutex)(&t->data.lock);
+	return em7180_params_read(&t->data, first, count, vals);
 }
 
 static int test_params_write(struct em7180_test *t, unsigned int first,
 			     unsigned int count, const u32 *vals)
 {
-	int ret;
-
-	mutex_lock(&t->data.lock);
-	ret = em7180_params_write(&t->data, first, count, vals);
-	mutex_unlock(&t->data.lock);
-
-	return ret;
+	guard(mutex)(&t->data.lock);
+	return em7180_params_write(&t->data, first, count, vals);
 }
 
 static void em7180_test_param_read_sequence(struct kunit *test)

@@ -10,15 +10,20 @@
  * userspace can save them and restore them at the next boot.
  */
 
+#include <linux/array_size.h>
 #include <linux/bitfield.h>
 #include <linux/bitmap.h>
 #include <linux/bitops.h>
+#include <linux/cleanup.h>
 #include <linux/delay.h>
 #include <linux/device.h>
 #include <linux/errno.h>
 #include <linux/interrupt.h>
 #include <linux/iopoll.h>
-#include <linux/kernel.h>
+#include <linux/jiffies.h>
+#include <linux/limits.h>
+#include <linux/lockdep.h>
+#include <linux/math.h>
 #include <linux/minmax.h>
 #include <linux/module.h>
 #include <linux/mutex.h>
@@ -26,7 +31,10 @@
 #include <linux/property.h>
 #include <linux/regmap.h>
 #include <linux/regulator/consumer.h>
+#include <linux/string.h>
 #include <linux/sysfs.h>
+#include <linux/types.h>
+#include <linux/wait.h>
 
 #include <linux/iio/buffer.h>
 #include <linux/iio/iio.h>
@@ -270,11 +278,11 @@ static int em7180_read_freq(struct em7180_data *data,
 	if (ret)
 		return ret;
 
-	mutex_lock(&data->lock);
-	ret = regmap_read(data->regmap, actual, &rate);
-	if (!ret && !rate)
-		ret = regmap_read(data->regmap, reg, &rate);
-	mutex_unlock(&data->lock);
+	scoped_guard(mutex, &data->lock) {
+		ret = regmap_read(data->regmap, actual, &rate);
+		if (!ret && !rate)
+			ret = regmap_read(data->regmap, reg, &rate);
+	}
 	if (ret)
 		return ret;
 
@@ -301,11 +309,8 @@ static int em7180_write_freq(struct em7180_data *data,
 	if (i == n)
 		return -EINVAL;
 
-	mutex_lock(&data->lock);
-	ret = regmap_write(data->regmap, reg, val / hz_per_lsb);
-	mutex_unlock(&data->lock);
-
-	return ret;
+	guard(mutex)(&data->lock);
+	return regmap_write(data->regmap, reg, val / hz_per_lsb);
 }
 
 /*
@@ -364,17 +369,11 @@ static void em7180_accel_offset_set(struct em7180_data *data, const u32 *ws)
 int em7180_read_calibbias(struct em7180_data *data, unsigned int axis,
 			  int *val)
 {
-	bool valid;
-	u32 bits;
-
-	mutex_lock(&data->lock);
-	valid = data->accel_offset_valid;
-	bits = data->accel_offset[axis];
-	mutex_unlock(&data->lock);
-	if (!valid)
+	guard(mutex)(&data->lock);
+	if (!data->accel_offset_valid)
 		return -ENODATA;
 
-	return em7180_float_g_to_lsb(bits, val);
+	return em7180_float_g_to_lsb(data->accel_offset[axis], val);
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_read_calibbias);
 
@@ -402,7 +401,7 @@ int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
 
 	bits = em7180_lsb_to_float_g(val);
 
-	mutex_lock(&data->lock);
+	guard(mutex)(&data->lock);
 	ret = em7180_params_write(data, param, 1, &bits);
 	if (!ret && data->accel_offset_valid)
 		data->accel_offset[axis] = bits;
@@ -411,7 +410,6 @@ int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
 	/* Keep the copy re-applied after a power loss in step */
 	if (!ret && data->ws_valid)
 		put_unaligned_le32(bits, &data->ws[(param - EM7180_WS_FIRST_PARAM) * 4]);
-	mutex_unlock(&data->lock);
 
 	return ret;
 }
@@ -423,9 +421,9 @@ static int em7180_read_raw_vec(struct em7180_data *data,
 	__le16 raw;
 	int ret;
 
-	mutex_lock(&data->lock);
-	ret = regmap_bulk_read(data->regmap, chan->address, &raw, sizeof(raw));
-	mutex_unlock(&data->lock);
+	scoped_guard(mutex, &data->lock)
+		ret = regmap_bulk_read(data->regmap, chan->address, &raw,
+				       sizeof(raw));
 	if (ret)
 		return ret;
 
@@ -438,9 +436,9 @@ static int em7180_read_quat(struct em7180_data *data, int *vals)
 	u8 raw[16];
 	int i, ret;
 
-	mutex_lock(&data->lock);
-	ret = regmap_bulk_read(data->regmap, EM7180_REG_QX, raw, sizeof(raw));
-	mutex_unlock(&data->lock);
+	scoped_guard(mutex, &data->lock)
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_QX, raw,
+				       sizeof(raw));
 	if (ret)
 		return ret;
 
@@ -601,28 +599,18 @@ static ssize_t em7180_id_show(struct device *dev,
 			      struct device_attribute *attr, char *buf)
 {
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
-	unsigned int val, width = 4;
 
-	mutex_lock(&data->lock);
+	guard(mutex)(&data->lock);
 	switch (to_iio_dev_attr(attr)->address) {
 	case EM7180_ID_PRODUCT:
-		val = data->product_id;
-		width = 2;
-		break;
+		return sysfs_emit(buf, "0x%02x\n", data->product_id);
 	case EM7180_ID_REVISION:
-		val = data->revision_id;
-		width = 2;
-		break;
+		return sysfs_emit(buf, "0x%02x\n", data->revision_id);
 	case EM7180_ID_ROM:
-		val = data->rom_version;
-		break;
+		return sysfs_emit(buf, "0x%04x\n", data->rom_version);
 	default:
-		val = data->ram_version;
-		break;
+		return sysfs_emit(buf, "0x%04x\n", data->ram_version);
 	}
-	mutex_unlock(&data->lock);
-
-	return sysfs_emit(buf, "0x%0*x\n", width, val);
 }
 
 static IIO_DEVICE_ATTR(in_magn_calibration_auto_status, 0444,
@@ -684,32 +672,28 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_check);
  * gap in the stream is the transfer plus at most one period. One transfer
  * per scan: a second one waits for the next scan, so that readers in a
  * loop cannot stop the stream. A stream that brings no scan within the
- * slowest period (1 s) is not waited for. Returns 0 with data->lock held,
- * or the error of an interrupted wait without it.
+ * slowest period (1 s) is not waited for.
+ *
+ * Return: 1 when a scan came, 0 when none is coming or @tries ran out, or
+ * the error of an interrupted wait.
  */
-static int em7180_lock_between_scans(struct em7180_data *data)
+static int em7180_wait_scan(struct em7180_data *data, unsigned int *tries)
 {
-	unsigned int scans, tries = EM7180_SCAN_WAIT_TRIES;
+	unsigned int scans = READ_ONCE(data->scans);
 	long ret;
 
-	while (READ_ONCE(data->pace_event) && tries--) {
-		scans = READ_ONCE(data->scans);
-		ret = wait_event_killable_timeout(data->scan_wq,
-						  READ_ONCE(data->scans) != scans ||
-						  !READ_ONCE(data->pace_event),
-						  msecs_to_jiffies(EM7180_SCAN_WAIT_MS));
-		if (ret < 0)
-			return ret;
-		if (!ret)
-			break;
-		mutex_lock(&data->lock);
-		if (data->scan_seq == data->xfer_seq)
-			return 0;
-		mutex_unlock(&data->lock);
-	}
+	if (!READ_ONCE(data->pace_event) || !*tries)
+		return 0;
+	(*tries)--;
 
-	mutex_lock(&data->lock);
-	return 0;
+	ret = wait_event_killable_timeout(data->scan_wq,
+					  READ_ONCE(data->scans) != scans ||
+					  !READ_ONCE(data->pace_event),
+					  msecs_to_jiffies(EM7180_SCAN_WAIT_MS));
+	if (ret < 0)
+		return ret;
+
+	return ret > 0;
 }
 
 /**
@@ -758,7 +742,8 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_read);
 
 /*
  * Reads work while a buffer is enabled, so that an application streaming
- * all day never blocks a save: the transfer runs between two scans.
+ * all day never blocks a save: the transfer runs between two scans, unless
+ * another transfer came after the scan waited for.
  */
 static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 				     em7180_bin_attribute *attr, char *buf,
@@ -766,6 +751,7 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 {
 	struct iio_dev *indio_dev = dev_to_iio_dev(kobj_to_dev(kobj));
 	struct em7180_data *data = iio_priv(indio_dev);
+	unsigned int tries = EM7180_SCAN_WAIT_TRIES;
 	int ret;
 
 	if (off >= EM7180_WS_SIZE)
@@ -775,16 +761,21 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 	if (ret)
 		return ret;
 
-	ret = em7180_lock_between_scans(data);
-	if (ret)
-		return ret;
+	for (;;) {
+		ret = em7180_wait_scan(data, &tries);
+		if (ret < 0)
+			return ret;
 
-	ret = em7180_warmstart_read(data, buf);
-	if (!ret)
+		guard(mutex)(&data->lock);
+		if (ret && data->scan_seq != data->xfer_seq)
+			continue;
+
+		ret = em7180_warmstart_read(data, buf);
+		if (ret)
+			return ret;
 		em7180_cal_saved(data);
-	mutex_unlock(&data->lock);
-
-	return ret ?: EM7180_WS_SIZE;
+		return EM7180_WS_SIZE;
+	}
 }
 
 /**
@@ -822,19 +813,19 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 	if (!iio_device_claim_direct(indio_dev))
 		return -EBUSY;
 
-	mutex_lock(&data->lock);
-	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
-				  EM7180_WS_NUM_PARAMS, vals);
-	if (!ret) {
-		memcpy(data->ws, buf, EM7180_WS_SIZE);
-		data->ws_valid = true;
-		em7180_accel_offset_set(data, vals);
-		em7180_cal_saved(data);
-	} else {
-		/* Some parameters may have been written before the error */
-		em7180_accel_offset_refresh(data, ret);
+	scoped_guard(mutex, &data->lock) {
+		ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
+					  EM7180_WS_NUM_PARAMS, vals);
+		if (!ret) {
+			memcpy(data->ws, buf, EM7180_WS_SIZE);
+			data->ws_valid = true;
+			em7180_accel_offset_set(data, vals);
+			em7180_cal_saved(data);
+		} else {
+			/* Some parameters may have been written before the error */
+			em7180_accel_offset_refresh(data, ret);
+		}
 	}
-	mutex_unlock(&data->lock);
 
 	iio_device_release_direct(indio_dev);
 
@@ -1076,25 +1067,27 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	int tries = EM7180_EVENT_READ_TRIES;
 	bool scan = false, fresh = false;
 
-	mutex_lock(&data->lock);
-	do {
-		ret = regmap_read(data->regmap, EM7180_REG_EVENT_STATUS,
-				  &status);
-	} while (ret && --tries);
-	if (!ret && (status & EM7180_EVENT_ERROR))
-		err_ret = regmap_read(data->regmap, EM7180_REG_ERROR, &err);
-	if (!ret && (status & EM7180_EVENT_CPU_RESET)) {
-		em7180_chip_recover(data);
-	} else if (!ret && (status & EM7180_EVENT_DATA) && data->pace_event) {
-		/* The burst in the same lock section: no transfer in between */
-		scan = true;
-		data->scan_seq = data->xfer_seq;
-		if (seq == data->xfer_seq)
-			scan_ret = em7180_scan_read(data,
-						    indio_dev->active_scan_mask,
-						    true, &fresh);
+	scoped_guard(mutex, &data->lock) {
+		do {
+			ret = regmap_read(data->regmap, EM7180_REG_EVENT_STATUS,
+					  &status);
+		} while (ret && --tries);
+		if (!ret && (status & EM7180_EVENT_ERROR))
+			err_ret = regmap_read(data->regmap, EM7180_REG_ERROR,
+					      &err);
+		if (!ret && (status & EM7180_EVENT_CPU_RESET)) {
+			em7180_chip_recover(data);
+		} else if (!ret && (status & EM7180_EVENT_DATA) &&
+			   data->pace_event) {
+			/* The burst in the same lock section: no transfer in between */
+			scan = true;
+			data->scan_seq = data->xfer_seq;
+			if (seq == data->xfer_seq)
+				scan_ret = em7180_scan_read(data,
+							    indio_dev->active_scan_mask,
+							    true, &fresh);
+		}
 	}
-	mutex_unlock(&data->lock);
 	if (ret) {
 		dev_err_ratelimited(data->dev,
 				    "cannot read the event status: %d\n", ret);
@@ -1173,32 +1166,35 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 	unsigned int events = EM7180_EVENT_ALWAYS, status;
 	int ret, tries = EM7180_EVENT_READ_TRIES;
 
-	mutex_lock(&data->lock);
-	WRITE_ONCE(data->pace_event,
-		   state && mask ? em7180_pace_event(data, mask) : 0);
-	events |= data->pace_event;
-	/* No scan comes any more: transfers waiting for one go ahead */
-	if (!state)
-		wake_up_all(&data->scan_wq);
-	/* A new capture: nothing pushed yet that a scan could repeat */
-	data->last_len = 0;
-	ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS, events);
-	if (ret && !state)
+	scoped_guard(mutex, &data->lock) {
+		WRITE_ONCE(data->pace_event,
+			   state && mask ? em7180_pace_event(data, mask) : 0);
+		events |= data->pace_event;
+		/* No scan comes any more: transfers waiting for one go ahead */
+		if (!state)
+			wake_up_all(&data->scan_wq);
+		/* A new capture: nothing pushed yet that a scan could repeat */
+		data->last_len = 0;
 		ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
 				   events);
-	/*
-	 * An event left pending keeps INT high, and on an edge-triggered
-	 * line no edge, no interrupt and no scan would ever come: read it.
-	 */
-	if (!ret && state) {
-		do {
-			ret = regmap_read(data->regmap,
-					  EM7180_REG_EVENT_STATUS, &status);
-		} while (ret && --tries);
-		if (!ret && (status & EM7180_EVENT_CPU_RESET))
-			ret = em7180_chip_recover(data);
+		if (ret && !state)
+			ret = regmap_write(data->regmap,
+					   EM7180_REG_ENABLE_EVENTS, events);
+		/*
+		 * An event left pending keeps INT high, and on an
+		 * edge-triggered line no edge, no interrupt and no scan
+		 * would ever come: read it.
+		 */
+		if (!ret && state) {
+			do {
+				ret = regmap_read(data->regmap,
+						  EM7180_REG_EVENT_STATUS,
+						  &status);
+			} while (ret && --tries);
+			if (!ret && (status & EM7180_EVENT_CPU_RESET))
+				ret = em7180_chip_recover(data);
+		}
 	}
-	mutex_unlock(&data->lock);
 
 	/*
 	 * When turning the trigger off fails, the IIO core keeps the poll
@@ -1229,8 +1225,7 @@ static ssize_t sampling_frequency_show(struct device *dev,
 	enum iio_chan_type type;
 	int ret, hz;
 
-	mutex_lock(&data->lock);
-	switch (data->pace_event) {
+	switch (READ_ONCE(data->pace_event)) {
 	case EM7180_EVENT_MAG:
 		type = IIO_MAGN;
 		break;
@@ -1241,7 +1236,6 @@ static ssize_t sampling_frequency_show(struct device *dev,
 		type = IIO_ANGL_VEL;
 		break;
 	}
-	mutex_unlock(&data->lock);
 
 	ret = em7180_read_freq(data, type, &hz);
 	if (ret < 0)
@@ -1440,10 +1434,9 @@ static void em7180_unbind_action(void *arg)
 		{ EM7180_REG_ALGO_CTRL, 0 },
 	};
 
-	mutex_lock(&data->lock);
+	guard(mutex)(&data->lock);
 	if (regmap_multi_reg_write(data->regmap, seq, ARRAY_SIZE(seq)))
 		dev_warn(data->dev, "chip not left running\n");
-	mutex_unlock(&data->lock);
 }
 
 /*
@@ -1515,7 +1508,9 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	data->dev = dev;
 	data->regmap = regmap;
 	data->irq = max(irq, 0);
-	mutex_init(&data->lock);
+	ret = devm_mutex_init(dev, &data->lock);
+	if (ret)
+		return ret;
 	init_waitqueue_head(&data->scan_wq);
 	em7180_param_init(data);
 	dev_set_drvdata(dev, indio_dev);
@@ -1555,9 +1550,8 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 		return ret;
 
 	/* Streaming works without: calibbias reads fail until a transfer */
-	mutex_lock(&data->lock);
-	ret = em7180_accel_offset_fetch(data);
-	mutex_unlock(&data->lock);
+	scoped_guard(mutex, &data->lock)
+		ret = em7180_accel_offset_fetch(data);
 	if (ret)
 		dev_warn(dev, "cannot read the accelerometer offsets: %d\n",
 			 ret);
@@ -1599,15 +1593,13 @@ int em7180_chip_suspend(struct em7180_data *data)
 	u8 buf[EM7180_WS_SIZE];
 	int ret;
 
-	mutex_lock(&data->lock);
+	guard(mutex)(&data->lock);
 	ret = em7180_warmstart_read(data, buf);
 	if (ret)
 		dev_warn(data->dev,
 			 "cannot read the calibration before sleep: %d\n", ret);
-	ret = em7180_standby(data);
-	mutex_unlock(&data->lock);
 
-	return ret;
+	return em7180_standby(data);
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_chip_suspend);
 
@@ -1743,11 +1735,10 @@ int em7180_chip_resume(struct em7180_data *data)
 	bool lost = false;
 	int ret;
 
-	mutex_lock(&data->lock);
+	guard(mutex)(&data->lock);
 	ret = em7180_chip_restore(data, &lost, &rom, &ram);
 	if (ret && ret != -ETIMEDOUT && ret != -ENODEV)
 		ret = em7180_chip_restore(data, &lost, &rom, &ram);
-	mutex_unlock(&data->lock);
 
 	return ret;
 }

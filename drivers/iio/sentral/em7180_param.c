@@ -12,14 +12,18 @@
  * The kernel may not use the FPU: floats are handled as their bit patterns.
  */
 
+#include <linux/bits.h>
 #include <linux/delay.h>
+#include <linux/dev_printk.h>
 #include <linux/errno.h>
-#include <linux/kernel.h>
 #include <linux/ktime.h>
 #include <linux/limits.h>
+#include <linux/lockdep.h>
+#include <linux/math.h>
 #include <linux/math64.h>
 #include <linux/minmax.h>
 #include <linux/regmap.h>
+#include <linux/types.h>
 
 #include <kunit/visibility.h>
 
