@@ -5,7 +5,10 @@
 # Sensor data of the simulated EM7180: accel gravity + bias and the seed's
 # Table 1 offsets, gyro bias + noise, mag field, quaternion, timestamps
 # counting samples, EventStatus bits for enabled events, sample accounting
-# (read, missed, gaps, and whose loss a lost sample is).
+# (read, missed, gaps, and whose loss a lost sample is); EventStatus latching
+# every event while EnableEvents gates the INT pin (and the gated model as
+# the events_gated knob); the Error event with ErrorRegister and
+# SensorStatus.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/sim/testlib.sh"
 
@@ -25,7 +28,8 @@ ok "run" sim_wr 0x34 0x01
 sleep 0.5
 ok "stop" sim_wr 0x34 0x00
 ms=$((($(date +%s%N) - t0) / 1000000))
-is "EventStatus: accel event only (gyro not enabled)" "$(sim_rd 0x35)" 0x10
+is "EventStatus latches every data event, not only the enabled accel" \
+	"$(sim_rd 0x35)" 0x3c
 
 accel=$(dbg_get samples accel)
 gyro=$(dbg_get samples gyro)
@@ -159,7 +163,8 @@ ok "its EventStatus" sim_rd 0x35
 ok "read it" sim_rd 0x1a 8
 n=$(dbg_get samples accel)
 ok "a second sample" wait_for 2 accel_at_least $((n + 1))
-is "EventStatus reports it" "$(sim_rd 0x35)" 0x10
+ev=$(sim_rd 0x35)
+is "EventStatus reports it ($ev)" $((ev & 0x10)) 16
 ok "two more samples, no read" wait_for 2 accel_at_least $((n + 3))
 ok "stop" sim_wr 0x34 0x00
 ok "read the accel block" sim_rd 0x1a 8
@@ -169,5 +174,69 @@ ok "the later ones lost unseen ($unseen)" [ "$unseen" -ge 1 ]
 is "seen + unseen = gaps" $((seen + unseen)) "$(dbg_get samples accel_gaps)"
 ok "drops_seen_held, those a late timer made, are part of drops_seen" \
 	[ "$(dbg_get samples accel_drops_seen_held)" -le "$seen" ]
+
+# EventStatus latches every event; EnableEvents gates only the INT pin, as
+# on silicon (hosts tested on boards enable 0x07 and use the data bits).
+ok "rates: mag 10 Hz, accel and gyro 100 Hz" sim_wr 0x55 0x0a 0x0a 0x0a
+ok "QRateDivisor 0" sim_wr 0x32 0x00
+is "events_gated is 0 by default" "$(cat "$SIM_DBG/events_gated")" 0
+ok "EnableEvents 0x07: reset, error, quaternion" sim_wr 0x33 0x07
+ok "clear EventStatus" sim_rd 0x35
+irq0=$(dbg_get state irqs)
+ok "run" sim_wr 0x34 0x01
+sleep 0.3
+ok "stop" sim_wr 0x34 0x00
+is "INT rose for the quaternion" "$(dbg_get state int)" 1
+is "EventStatus: quaternion, mag, accel and gyro all latched" "$(sim_rd 0x35)" 0x3c
+is "one edge" "$(dbg_get state irqs)" $((irq0 + 1))
+ok "EnableEvents 0" sim_wr 0x33 0x00
+irq0=$(dbg_get state irqs)
+ok "run" sim_wr 0x34 0x01
+sleep 0.3
+ok "stop" sim_wr 0x34 0x00
+is "nothing enabled: INT stays low" "$(dbg_get state int)" 0
+is "no edge" "$(dbg_get state irqs)" "$irq0"
+is "and still every data event latched" "$(sim_rd 0x35)" 0x3c
+
+# The old model as a knob: only enabled events latch.
+ok "events_gated 1" knob events_gated 1
+ok "EnableEvents accel" sim_wr 0x33 0x10
+ok "run" sim_wr 0x34 0x01
+sleep 0.3
+ok "stop" sim_wr 0x34 0x00
+is "gated: EventStatus holds the accel event only" "$(sim_rd 0x35)" 0x10
+ok "error 0x11 while gated and not enabled" knob error 0x11
+is "gated: no Error bit" "$(sim_rd 0x35)" 0x00
+ok "events_gated 0" knob events_gated 0
+nok "events_gated refuses 2" knob events_gated 2
+
+# Error event: ErrorRegister (0x50) holds the code, EventStatus bit 1.
+ok "EnableEvents 0x03: reset, error" sim_wr 0x33 0x03
+ok "clear EventStatus" sim_rd 0x35
+irq0=$(dbg_get state irqs)
+ok "error 0x21 (mag init failed)" knob error 0x21
+is "error reads back" "$(cat "$SIM_DBG/error")" 0x21
+is "ErrorRegister 0x21" "$(sim_rd 0x50)" 0x21
+is "INT rose for the enabled Error event" "$(dbg_get state irqs)" $((irq0 + 1))
+is "EventStatus: Error" "$(sim_rd 0x35)" 0x02
+is "INT low after the read" "$(dbg_get state int)" 0
+is "ErrorRegister stays after EventStatus is read" "$(sim_rd 0x50)" 0x21
+ok "sensor_status 0x11: mag NACK, mag ID error" knob sensor_status 0x11
+is "SensorStatus 0x36" "$(sim_rd 0x36)" 0x11
+ok "EnableEvents 0" sim_wr 0x33 0x00
+irq0=$(dbg_get state irqs)
+ok "error 0x80 (invalid sample rate), Error not enabled" knob error 0x80
+is "no edge" "$(dbg_get state irqs)" "$irq0"
+is "Error latched all the same" "$(sim_rd 0x35)" 0x02
+ok "error 0 clears ErrorRegister" knob error 0
+is "without an event" "$(sim_rd 0x35 2)" "0x00 0x11"
+ok "error 0x30" knob error 0x30
+ok "ResetRequest" sim_wr 0x9b 0x01
+ok "upload done" sim_wait_upload
+is "a reset clears ErrorRegister" "$(sim_rd 0x50)" 0x00
+is "SensorStatus stays: the sensor is still dead" "$(sim_rd 0x36)" 0x11
+is "EventStatus after the reset: CPUReset only" "$(sim_rd 0x35)" 0x01
+ok "sensor_status 0" knob sensor_status 0
+nok "error refuses 256" knob error 256
 ok "unload" sim_unload
 done_testing

@@ -2,8 +2,10 @@
 # SPDX-License-Identifier: GPL-2.0-only
 # uml-args: --no-modules
 #
-# Fault knobs of the simulated EM7180 (nack_at, ack_never, ack_latency_us,
-# power_cycle, upload_ms) and ResetRequest.
+# Fault knobs of the simulated EM7180 (nack_at, ack_never, ack_latency_us
+# at the reference hosts' 5-10 ms polls and up to 1 s, power_cycle,
+# upload_ms, chip_reset with and without INT (reset_int), warm_reboot) and
+# ResetRequest.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/sim/testlib.sh"
 
@@ -51,6 +53,19 @@ el=$(dbg_get stats elapsed_us)
 ok "elapsed_us $el >= 1000000" [ "$el" -ge 1000000 ]
 bt=$(dbg_get stats bus_time_us)
 ok "bus_time_us $bt includes the latency" [ "$bt" -ge 1000000 ]
+
+# The reference hosts poll every 5-10 ms and allow up to 1 s.
+ok "ack_latency_us 10000" knob ack_latency_us 10000
+knob stats 0
+ok "begin" param_begin
+is "request param 24 and read 0x3A in one transaction: not yet" \
+	"$(sim_xfer w2@$SIM_ADDR 0x64 24 w1@$SIM_ADDR 0x3a r1@$SIM_ADDR)" 0x00
+ok "acknowledged, polled every 5 ms" sim_poll_ack1 24 1000
+ok "end" param_end
+el=$(dbg_get stats elapsed_us)
+ok "elapsed_us $el >= 10000" [ "$el" -ge 10000 ]
+ok "ack_latency_us takes 10 s" knob ack_latency_us 10000000
+nok "and no more" knob ack_latency_us 10000001
 knob ack_latency_us 500
 
 # power_cycle: RAM state lost.
@@ -89,5 +104,61 @@ ok "upload done" sim_wait_upload
 is "param 40 back to default" "$(param_get 40)" 0x00000000
 is "SentralStatus after reset" "$(sim_rd 0x37)" 0x0b
 is "EventStatus CPUReset" "$(sim_rd 0x35)" 0x01
+
+# A reset of the chip's own (brown-out, watchdog) clears EnableEvents;
+# whether INT still rises for CPUReset is reset_int.
+ok "EnableEvents 0x3c" sim_wr 0x33 0x3c
+is "reset_int is 1 by default" "$(cat "$SIM_DBG/reset_int")" 1
+irq0=$(dbg_get state irqs)
+ok "chip_reset" knob chip_reset 1
+is "INT rose" "$(dbg_get state irqs)" $((irq0 + 1))
+ok "upload done" sim_wait_upload
+is "EnableEvents cleared" "$(sim_rd 0x33)" 0x00
+is "EventStatus CPUReset" "$(sim_rd 0x35)" 0x01
+is "INT low after the read" "$(dbg_get state int)" 0
+ok "reset_int 0" knob reset_int 0
+ok "EnableEvents 0x3c" sim_wr 0x33 0x3c
+irq0=$(dbg_get state irqs)
+ok "chip_reset" knob chip_reset 1
+is "no edge" "$(dbg_get state irqs)" "$irq0"
+is "INT low" "$(dbg_get state int)" 0
+ok "upload done" sim_wait_upload
+is "CPUReset latched for a host that polls" "$(sim_rd 0x35)" 0x01
+ok "reset_int 1" knob reset_int 1
+
+# A warm reboot of the host leaves the chip running; what users saw
+# (SentralStatus 3, not 11) only a forced ResetRequest clears.
+ok "rates, run" sim_wr 0x55 0x0a 0x0a 0x0a
+ok "run" sim_wr 0x34 0x01
+is "running: SentralStatus 0x03" "$(sim_rd 0x37)" 0x03
+is "warm_reboot reads 0" "$(cat "$SIM_DBG/warm_reboot")" 0
+ok "warm_reboot 1" knob warm_reboot 1
+is "warm_reboot reads 1" "$(cat "$SIM_DBG/warm_reboot")" 1
+ok "HostControl 0, as a host configuring" sim_wr 0x34 0x00
+is "SentralStatus stays 0x03: no standby" "$(sim_rd 0x37)" 0x03
+ok "HostControl 1" sim_wr 0x34 0x01
+is "the algorithm does not run" "$(dbg_get state running)" 0
+n=$(dbg_get samples accel)
+sleep 0.1
+is "no samples" "$(dbg_get samples accel)" "$n"
+ok "begin" param_begin
+ok "request param 24" sim_wr 0x64 24
+nok "no acknowledge within 200 ms" sim_poll_ack1 24 200
+ok "end" param_end
+nok "warm_reboot accepts only 1" knob warm_reboot 0
+ok "power cycle" knob power_cycle 1
+ok "upload done" sim_wait_upload
+is "a power cycle clears it too" "$(cat "$SIM_DBG/warm_reboot")" 0
+ok "warm_reboot 1" knob warm_reboot 1
+ok "ResetRequest" sim_wr 0x9b 0x01
+ok "upload done" sim_wait_upload
+is "the ResetRequest cleared it" "$(cat "$SIM_DBG/warm_reboot")" 0
+is "SentralStatus 0x0b" "$(sim_rd 0x37)" 0x0b
+ok "rates, run" sim_wr 0x55 0x0a 0x0a 0x0a
+ok "run" sim_wr 0x34 0x01
+n=$(dbg_get samples accel)
+sleep 0.1
+ok "samples again" [ "$(dbg_get samples accel)" -gt "$n" ]
+ok "stop" sim_wr 0x34 0x00
 ok "unload" sim_unload
 done_testing

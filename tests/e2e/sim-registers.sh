@@ -3,7 +3,9 @@
 # uml-args: --no-modules
 #
 # The simulated EM7180's register map: identity, status after power-on,
-# clear-on-read, auto-increment block reads and writes, rates.
+# clear-on-read, auto-increment block reads and writes, the register
+# pointer across a STOP, auto-increment that stops at 0x3A and 0x63
+# (autoinc_stop), rates, the identity knobs.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/sim/testlib.sh"
 
@@ -28,6 +30,59 @@ is "burst read-back of the rate registers" "$(sim_rd 0x55 3)" "0x1e 0x0a 0x14"
 is "actual rates are 0 while the CPU is not running" "$(sim_rd 0x45 3)" "0x00 0x00 0x00"
 is "read wraps from 0xff to 0x00" "$(sim_rd 0xff 2)" "0x00 0x00"
 ok "read-only ProductID ignores writes" sim_wr 0x90 0x12
+
+# SMBus hosts write the register number in one transaction and read in
+# another: the pointer persists across the STOP.
+ok "write the register number 0x90 alone" sim_xfer w1@$SIM_ADDR 0x90
+is "a separate read goes on from there" "$(sim_xfer r2@$SIM_ADDR)" "0x80 0x02"
+is "and the next one from 0x92 (RunStatus)" "$(sim_xfer r1@$SIM_ADDR)" 0x00
+ok "pointer to 0x70" sim_xfer w1@$SIM_ADDR 0x70
+is "i2cget without a register (receive byte) reads at the pointer" \
+	"$(i2cget -f -y "$SIM_BUS" $SIM_ADDR)" 0xe6
+
+# Auto-increment: no reference host crosses 0x63->0x64 or 0x3A->0x3B in
+# one transfer; autoinc_stop plays a chip whose pointer stops there.
+is "autoinc_stop is 0 by default" "$(cat "$SIM_DBG/autoinc_stop")" 0
+ok "autoinc_stop 1" knob autoinc_stop 1
+ok "a 5-byte burst from 0x60" sim_wr 0x60 0x11 0x22 0x33 0x44 0x05
+is "the fifth byte landed on 0x63 again" "$(sim_rd 0x60 4)" "0x11 0x22 0x33 0x05"
+is "ParamRequest not written" "$(sim_rd 0x64)" 0x00
+ok "begin a transfer" sim_wr 0x54 0x80
+ok "ParamRequest 24 alone" sim_wr 0x64 24
+ok "acknowledged, 0x3A polled alone" sim_poll_ack1 24
+is "a burst from 0x3A repeats ParamAcknowledge" "$(sim_rd 0x3a 5)" \
+	"0x18 0x18 0x18 0x18 0x18"
+is "a block read from 0x3B has the value (1.0f)" "$(sim_rd 0x3b 4)" \
+	"0x00 0x00 0x80 0x3f"
+ok "end" sim_wr 0x64 0x00
+ok "end" sim_wr 0x54 0x00
+is "other bursts still increment" "$(sim_rd 0x70 4)" "0xe6 0x09 0x17 0x0d"
+ok "autoinc_stop 0" knob autoinc_stop 0
+ok "a 5-byte burst from 0x60 again" sim_wr 0x60 0x11 0x22 0x33 0x44 0x05
+is "crosses to ParamRequest" "$(sim_rd 0x60 5)" "0x11 0x22 0x33 0x44 0x05"
+ok "ParamRequest 0" sim_wr 0x64 0x00
+nok "autoinc_stop refuses 2" knob autoinc_stop 2
+
+# Identity knobs: another part or firmware.
+ok "product_id 0x81" knob product_id 0x81
+ok "revision_id 0x03" knob revision_id 0x03
+ok "rom_version 0x07a8 (DI01)" knob rom_version 0x07a8
+ok "ram_version 0x0e01" knob ram_version 0x0e01
+is "ProductID, RevisionID follow" "$(sim_rd 0x90 2)" "0x81 0x03"
+is "ROMVersion, RAMVersion follow" "$(sim_rd 0x70 4)" "0xa8 0x07 0x01 0x0e"
+ok "ResetRequest" sim_wr 0x9b 0x01
+ok "upload done" sim_wait_upload
+is "they survive a reset" "$(sim_rd 0x70 4) $(sim_rd 0x90 2)" \
+	"0xa8 0x07 0x01 0x0e 0x81 0x03"
+is "product_id reads back" "$(cat "$SIM_DBG/product_id")" 0x81
+is "revision_id reads back" "$(cat "$SIM_DBG/revision_id")" 0x03
+is "rom_version reads back" "$(cat "$SIM_DBG/rom_version")" 0x07a8
+nok "product_id refuses 0x100" knob product_id 0x100
+ok "identity back to the defaults" sh -c "echo 0x80 >$SIM_DBG/product_id &&
+	echo 2 >$SIM_DBG/revision_id && echo 0x09e6 >$SIM_DBG/rom_version &&
+	echo 0x0d17 >$SIM_DBG/ram_version"
+is "EventStatus after the reset: CPUReset" "$(sim_rd 0x35)" 0x01
+ok "rates again" sim_wr 0x55 0x1e 0x0a 0x14
 is "ProductID unchanged" "$(sim_rd 0x90)" 0x80
 
 ok "HostControl run" sim_wr 0x34 0x01

@@ -6,6 +6,8 @@
 # Each message costs 1 start bit + 9 bits per byte including the address
 # byte; each transaction 1 stop bit; 2.5 us per bit at 400 kHz; plus
 # ack_latency_us per parameter request served; total rounded to 1 us.
+# With bus_khz the bit time is that clock's, and the adapter takes that
+# long in real time.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/sim/testlib.sh"
 
@@ -57,5 +59,39 @@ is "parameter read: $bits bits * 2.5 us + 500 us" "$(dbg_get stats bus_time_us)"
 el=$(dbg_get stats elapsed_us)
 ok "elapsed_us $el covers the latency" [ "$el" -ge 500 ]
 nok "stats accepts only 0" knob stats 1
+
+# bus_khz: the bit time of that clock, in the stats and in real time.
+is "bus_khz 0 by default" "$(cat "$SIM_DBG/bus_khz")" 0
+for khz in 100 400 1000; do
+	ok "bus_khz $khz" knob bus_khz $khz
+	knob stats 0
+	sim_rd 0x90 2 >/dev/null
+	us=$((48 * 1000 / khz))
+	is "$khz kHz: w1 + r2, 48 bits = $us us" "$(dbg_get stats bus_time_us)" $us
+	el=$(dbg_get stats elapsed_us)
+	ok "$khz kHz: the transaction took $el >= $us us" [ "$el" -ge $us ]
+done
+ok "bus_khz 100" knob bus_khz 100
+knob stats 0
+t0=$(date +%s%N)
+sim_rd 0x00 255 >/dev/null
+ms=$((($(date +%s%N) - t0) / 1000000))
+# (1 + 18) + (1 + 9 * 256) + 1 = 2325 bits at 10 us
+is "100 kHz: w1 + r255 = 2325 bits = 23250 us" "$(dbg_get stats bus_time_us)" 23250
+ok "it took $ms >= 23 ms of real time" [ "$ms" -ge 23 ]
+knob stats 0
+ok "nack_at 1" knob nack_at 1
+nok "a NACKed transaction" sim_rd 0x90
+is "100 kHz: NACK, 11 bits = 110 us" "$(dbg_get stats bus_time_us)" 110
+ok "bus_khz 0" knob bus_khz 0
+knob stats 0
+t0=$(date +%s%N)
+sim_rd 0x00 255 >/dev/null
+is "bus_khz 0: accounted at 400 kHz, 5812.5 -> 5813 us" \
+	"$(dbg_get stats bus_time_us)" 5813
+el=$(dbg_get stats elapsed_us)
+ok "and no wire time ($el us)" [ "$el" -lt 5000 ]
+nok "bus_khz refuses 5" knob bus_khz 5
+nok "bus_khz refuses 3401" knob bus_khz 3401
 ok "unload" sim_unload
 done_testing

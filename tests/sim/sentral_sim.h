@@ -33,6 +33,7 @@
 #define SIM_REG_ENABLE_EVENTS	0x33
 #define SIM_REG_HOST_CONTROL	0x34
 #define SIM_REG_EVENT_STATUS	0x35
+#define SIM_REG_SENSOR_STATUS	0x36
 #define SIM_REG_SENTRAL_STATUS	0x37
 #define SIM_REG_ALGO_STATUS	0x38
 #define SIM_REG_PARAM_ACK	0x3a
@@ -45,6 +46,7 @@
 #define SIM_REG_ACTUAL_GYRO	0x47
 #define SIM_REG_CAL_SCORE_LSB	0x4d
 #define SIM_REG_CAL_SCORE_MSB	0x4e
+#define SIM_REG_ERROR		0x50
 #define SIM_REG_ALGO_CONTROL	0x54
 #define SIM_REG_MAG_RATE	0x55
 #define SIM_REG_ACCEL_RATE	0x56
@@ -62,6 +64,7 @@
 #define SIM_REG_PASSTHRU_CTRL	0xa0
 
 #define SIM_EV_CPU_RESET	BIT(0)
+#define SIM_EV_ERROR		BIT(1)
 #define SIM_EV_QUATERNION	BIT(2)
 #define SIM_EV_MAG		BIT(3)
 #define SIM_EV_ACCEL		BIT(4)
@@ -188,6 +191,8 @@ struct sentral_sim {
 
 	/* Bus */
 	u8 pointer;
+	u32 bus_khz;		/* 0: no wire time, 400 kHz accounting */
+	bool autoinc_stop;	/* no increment 0x3a->0x3b nor 0x63->0x64 */
 	struct sim_stats stats;
 	u32 nack_at;
 	u32 nack_count;
@@ -211,6 +216,13 @@ struct sentral_sim {
 	u8 ack_end;		/* SIM_ACK_END_*: the acknowledge after a stop */
 	u32 upload_ms;
 	u16 ram_version;
+	u16 rom_version;
+	u8 product_id;
+	u8 revision_id;
+	u8 sensor_status;	/* SensorStatus: a sensor that does not answer */
+	bool events_gated;	/* EventStatus latches only enabled events */
+	bool reset_int;		/* chip_reset raises INT for CPUReset */
+	bool wedged;		/* after a host's warm reboot, until a reset */
 	bool standby_never;
 	bool standby_power_loss;
 	bool standby_blocks_params;
@@ -262,6 +274,8 @@ bool sim_in_upload(struct sentral_sim *sim, ktime_t now);
 bool sim_algo_running(struct sentral_sim *sim, ktime_t now);
 bool sim_nacks(struct sentral_sim *sim, ktime_t now);
 void sim_int_stuck(struct sentral_sim *sim);
+void sim_event(struct sentral_sim *sim, u8 ev);
+void sim_error(struct sentral_sim *sim, u8 code);
 
 /* sim-main.c */
 void sim_fire_irq(struct sentral_sim *sim);

@@ -17,6 +17,9 @@
 #define SIM_MAX_MS		3600000		/* one hour */
 #define SIM_MAX_LATENCY_US	10000000	/* ten seconds */
 #define SIM_MAX_UPLOAD_MS	10000
+/* I2C clocks, 10 kHz up to high-speed mode's 3.4 MHz */
+#define SIM_MIN_BUS_KHZ		10
+#define SIM_MAX_BUS_KHZ		3400
 
 struct sim_knob {
 	const char *name;
@@ -357,6 +360,135 @@ static int ram_version_store(struct sentral_sim *sim, char *buf, ktime_t now)
 	return kstrtou16(buf, 0, &sim->ram_version);
 }
 
+static void rom_version_show(struct seq_file *m, struct sentral_sim *sim,
+			     ktime_t now)
+{
+	seq_printf(m, "0x%04x\n", sim->rom_version);
+}
+
+static int rom_version_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return kstrtou16(buf, 0, &sim->rom_version);
+}
+
+static void product_id_show(struct seq_file *m, struct sentral_sim *sim,
+			    ktime_t now)
+{
+	seq_printf(m, "0x%02x\n", sim->product_id);
+}
+
+static int product_id_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return kstrtou8(buf, 0, &sim->product_id);
+}
+
+static void revision_id_show(struct seq_file *m, struct sentral_sim *sim,
+			     ktime_t now)
+{
+	seq_printf(m, "0x%02x\n", sim->revision_id);
+}
+
+static int revision_id_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return kstrtou8(buf, 0, &sim->revision_id);
+}
+
+static void events_gated_show(struct seq_file *m, struct sentral_sim *sim,
+			      ktime_t now)
+{
+	seq_printf(m, "%d\n", sim->events_gated);
+}
+
+static int events_gated_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return kstrtobool(buf, &sim->events_gated);
+}
+
+static void error_show(struct seq_file *m, struct sentral_sim *sim,
+		       ktime_t now)
+{
+	seq_printf(m, "0x%02x\n", sim->regs[SIM_REG_ERROR]);
+}
+
+/* ErrorRegister = the value; anything but 0 raises the Error event */
+static int error_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	u8 v;
+	int ret = kstrtou8(buf, 0, &v);
+
+	if (!ret)
+		sim_error(sim, v);
+	return ret;
+}
+
+static void sensor_status_show(struct seq_file *m, struct sentral_sim *sim,
+			       ktime_t now)
+{
+	seq_printf(m, "0x%02x\n", sim->sensor_status);
+}
+
+static int sensor_status_store(struct sentral_sim *sim, char *buf,
+			       ktime_t now)
+{
+	return kstrtou8(buf, 0, &sim->sensor_status);
+}
+
+static void autoinc_stop_show(struct seq_file *m, struct sentral_sim *sim,
+			      ktime_t now)
+{
+	seq_printf(m, "%d\n", sim->autoinc_stop);
+}
+
+static int autoinc_stop_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return kstrtobool(buf, &sim->autoinc_stop);
+}
+
+static void reset_int_show(struct seq_file *m, struct sentral_sim *sim,
+			   ktime_t now)
+{
+	seq_printf(m, "%d\n", sim->reset_int);
+}
+
+static int reset_int_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return kstrtobool(buf, &sim->reset_int);
+}
+
+static void warm_reboot_show(struct seq_file *m, struct sentral_sim *sim,
+			     ktime_t now)
+{
+	seq_printf(m, "%d\n", sim->wedged);
+}
+
+/* The host rebooted, the chip did not: only a ResetRequest clears it */
+static int warm_reboot_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	if (strcmp(buf, "1"))
+		return -EINVAL;
+	sim->wedged = true;
+	return 0;
+}
+
+static void bus_khz_show(struct seq_file *m, struct sentral_sim *sim,
+			 ktime_t now)
+{
+	seq_printf(m, "%u\n", sim->bus_khz);
+}
+
+static int bus_khz_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	u32 v;
+	int ret = sim_parse_u32(buf, SIM_MAX_BUS_KHZ, &v);
+
+	if (ret)
+		return ret;
+	if (v && v < SIM_MIN_BUS_KHZ)
+		return -ERANGE;
+	sim->bus_khz = v;
+	return 0;
+}
+
 static void standby_never_show(struct seq_file *m, struct sentral_sim *sim,
 			       ktime_t now)
 {
@@ -413,13 +545,13 @@ static int int_stuck_store(struct sentral_sim *sim, char *buf, ktime_t now)
 	return 0;
 }
 
-/* A reset of the chip's own: the firmware raises INT for CPUReset */
+/* A reset of the chip's own: INT rises for CPUReset unless reset_int 0 */
 static int chip_reset_store(struct sentral_sim *sim, char *buf, ktime_t now)
 {
 	if (strcmp(buf, "1"))
 		return -EINVAL;
 	sim_power_on(sim, now);
-	sim->int_latched = true;
+	sim->int_latched = sim->reset_int;
 	return 0;
 }
 
@@ -563,6 +695,16 @@ static const struct sim_knob sim_knobs[] = {
 	{ "nack_at", 0600, nack_at_show, nack_at_store },
 	{ "upload_ms", 0600, upload_ms_show, upload_ms_store },
 	{ "ram_version", 0600, ram_version_show, ram_version_store },
+	{ "rom_version", 0600, rom_version_show, rom_version_store },
+	{ "product_id", 0600, product_id_show, product_id_store },
+	{ "revision_id", 0600, revision_id_show, revision_id_store },
+	{ "events_gated", 0600, events_gated_show, events_gated_store },
+	{ "error", 0600, error_show, error_store },
+	{ "sensor_status", 0600, sensor_status_show, sensor_status_store },
+	{ "autoinc_stop", 0600, autoinc_stop_show, autoinc_stop_store },
+	{ "reset_int", 0600, reset_int_show, reset_int_store },
+	{ "warm_reboot", 0600, warm_reboot_show, warm_reboot_store },
+	{ "bus_khz", 0600, bus_khz_show, bus_khz_store },
 	{ "standby_never", 0600, standby_never_show, standby_never_store },
 	{ "standby_power_loss", 0600, standby_power_loss_show,
 	  standby_power_loss_store },

@@ -22,6 +22,7 @@
 #include <linux/irqdomain.h>
 #include <linux/module.h>
 #include <linux/platform_device.h>
+#include <linux/sched.h>
 #include <linux/slab.h>
 
 #include "sentral_sim.h"
@@ -59,7 +60,7 @@ struct sim_bus {
 
 static struct sim_bus *sim_buses[SIM_MAX_ADAPTERS + 1];
 
-/* One bit time at 400 kHz, in ns */
+/* One bit time at 400 kHz, in ns: the accounting without bus_khz */
 #define SIM_BIT_NS	2500
 
 /* Bits of one message: start (or repeated start), address and data bytes
@@ -153,13 +154,30 @@ static const struct irq_domain_ops sim_irq_domain_ops = {
 	.unmap = sim_irq_unmap,
 };
 
+/*
+ * The register pointer increments after each byte. No reference host
+ * crosses 0x63->0x64 or 0x3a->0x3b in one transfer (register reference
+ * §2), so whether the silicon does is unknown: with autoinc_stop the
+ * pointer stays on 0x3a or 0x63, and further bytes of the message read
+ * or write that register again.
+ */
+static void sim_pointer_next(struct sentral_sim *sim)
+{
+	if (sim->autoinc_stop && (sim->pointer == SIM_REG_PARAM_ACK ||
+				  sim->pointer == SIM_REG_LOAD_PARAM3))
+		return;
+	sim->pointer++;
+}
+
 static void sim_msg_read(struct sentral_sim *sim, struct i2c_msg *msg,
 			 ktime_t now)
 {
 	u16 i;
 
-	for (i = 0; i < msg->len; i++)
-		msg->buf[i] = sim_reg_read(sim, sim->pointer++, now, false);
+	for (i = 0; i < msg->len; i++) {
+		msg->buf[i] = sim_reg_read(sim, sim->pointer, now, false);
+		sim_pointer_next(sim);
+	}
 }
 
 /* The first byte of a write sets the register pointer; the rest is data */
@@ -171,8 +189,27 @@ static void sim_msg_write(struct sentral_sim *sim, struct i2c_msg *msg,
 	if (!msg->len)
 		return;
 	sim->pointer = msg->buf[0];
-	for (i = 1; i < msg->len; i++)
-		sim_reg_write(sim, sim->pointer++, msg->buf[i], now);
+	for (i = 1; i < msg->len; i++) {
+		sim_reg_write(sim, sim->pointer, msg->buf[i], now);
+		sim_pointer_next(sim);
+	}
+}
+
+/*
+ * With bus_khz the transfer lasts as long as its bits take on the wire
+ * (start, address and data bytes with their acknowledge bits, stop), as
+ * a real controller's does: a Raspberry Pi's bus runs at 100 kHz unless
+ * told otherwise. Sleeps until @end; the bus is the caller's meanwhile.
+ */
+static void sim_wire_wait(ktime_t end)
+{
+	/* a transfer in atomic context (shutdown) cannot sleep */
+	if (!in_task() || irqs_disabled())
+		return;
+	while (ktime_before(ktime_get(), end)) {
+		set_current_state(TASK_UNINTERRUPTIBLE);
+		schedule_hrtimeout_range(&end, 0, HRTIMER_MODE_ABS);
+	}
 }
 
 static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
@@ -181,7 +218,9 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 	struct sentral_sim *sim;
 	unsigned long flags;
 	u64 bits = 1;		/* the stop condition */
-	ktime_t now;
+	u64 bit_ns, wire_ns;
+	u32 khz;
+	ktime_t start = ktime_get(), now, end;
 	bool fire;
 	int i;
 
@@ -200,9 +239,11 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 	spin_lock_irqsave(&sim->lock, flags);
 	now = ktime_get();
 	sim_advance(sim, now);
+	khz = sim->bus_khz;
+	bit_ns = khz ? DIV_ROUND_CLOSEST(NSEC_PER_MSEC, khz) : SIM_BIT_NS;
 
 	if (!sim->stats.transactions)
-		sim->stats.first = now;
+		sim->stats.first = start;
 	sim->stats.transactions++;
 
 	if (sim_nacks(sim, now) ||
@@ -211,9 +252,13 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 		if (!sim_nacks(sim, now))
 			sim->nack_at = 0;
 		sim->stats.nacks++;
-		sim->stats.bus_ns += (sim_msg_bits(0) + bits) * SIM_BIT_NS;
-		sim->stats.last = ktime_get();
+		wire_ns = (sim_msg_bits(0) + bits) * bit_ns;
+		sim->stats.bus_ns += wire_ns;
+		end = ktime_add_ns(start, khz ? wire_ns : 0);
+		sim->stats.last = ktime_after(end, ktime_get()) ? end : ktime_get();
 		spin_unlock_irqrestore(&sim->lock, flags);
+		if (khz)
+			sim_wire_wait(end);
 		return -ENXIO;
 	}
 
@@ -228,13 +273,18 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 		sim->stats.bytes += msgs[i].len;
 		bits += sim_msg_bits(msgs[i].len);
 	}
-	sim->stats.bus_ns += bits * SIM_BIT_NS;
+	wire_ns = bits * bit_ns;
+	sim->stats.bus_ns += wire_ns;
 
 	sim_schedule(sim, now);
 	fire = sim_int_update(sim);
-	sim->stats.last = ktime_get();
+	/* the transaction ends when its stop is on the wire */
+	end = ktime_add_ns(start, khz ? wire_ns : 0);
+	sim->stats.last = ktime_after(end, ktime_get()) ? end : ktime_get();
 	spin_unlock_irqrestore(&sim->lock, flags);
 
+	if (khz)
+		sim_wire_wait(end);
 	if (fire)
 		sim_fire_irq(sim);
 	return num;

@@ -19,10 +19,11 @@
 #include "sentral_sim.h"
 #include "sim_compat.h"
 
-/* Fixed identity, EM7180 register reference §1 */
+/* Identity at load (knobs), EM7180 register reference §1 */
 #define SIM_PRODUCT_ID		0x80
 #define SIM_REVISION_ID		0x02
 #define SIM_ROM_VERSION		0x09e6	/* ROM "DI02" */
+#define SIM_RAM_VERSION		0x0d17
 
 /* SentralStatus bits, §1 and §3: 0x0b is "good" after reset */
 #define SIM_ST_EEPROM		BIT(0)
@@ -119,7 +120,7 @@ bool sim_algo_running(struct sentral_sim *sim, ktime_t now)
 {
 	u8 algo = sim->regs[SIM_REG_ALGO_CONTROL];
 
-	return !sim_in_upload(sim, now) &&
+	return !sim_in_upload(sim, now) && !sim->wedged &&
 	       (sim->regs[SIM_REG_HOST_CONTROL] & SIM_HOST_RUN) &&
 	       !(algo & (SIM_ALGO_STANDBY | SIM_ALGO_PARAM_PROC));
 }
@@ -278,6 +279,7 @@ static void sim_param_poll(struct sentral_sim *sim, ktime_t now)
 	u32 val;
 
 	if (!sim->req_pending || sim->ack_never || sim_in_upload(sim, now) ||
+	    sim->wedged ||
 	    !(sim->regs[SIM_REG_ALGO_CONTROL] & SIM_ALGO_PARAM_PROC))
 		return;
 	if (sim->standby_blocks_params &&
@@ -491,6 +493,27 @@ static void sim_make_quat(struct sentral_sim *sim)
 			     &sim->regs[SIM_REG_QX + 4 * i]);
 }
 
+/*
+ * EventStatus latches every event and EnableEvents gates only the INT pin:
+ * hosts run on real boards enable 0x07 and still use the data bits
+ * (reference §1, 0x33). events_gated plays the model where it latches
+ * only enabled events. CPUReset is latched by sim_power_on() either way.
+ */
+void sim_event(struct sentral_sim *sim, u8 ev)
+{
+	if (sim->events_gated)
+		ev &= sim->regs[SIM_REG_ENABLE_EVENTS];
+	sim->event_status |= ev;
+}
+
+/* An error of the firmware: ErrorRegister and the Error event, §1 */
+void sim_error(struct sentral_sim *sim, u8 code)
+{
+	sim->regs[SIM_REG_ERROR] = code;
+	if (code)
+		sim_event(sim, SIM_EV_ERROR);
+}
+
 /* held: the callback ran half a period or more after the sample was due */
 static void sim_produce(struct sentral_sim *sim, enum sim_stream_id id,
 			bool held)
@@ -540,9 +563,7 @@ static void sim_produce(struct sentral_sim *sim, enum sim_stream_id id,
 	st->drdy_mark = sim->drdy_seen;
 	st->unread = true;
 	st->produced++;
-	/* EventStatus reports the data events the host enabled */
-	sim->event_status |= sim_stream_event[id] &
-			     sim->regs[SIM_REG_ENABLE_EVENTS];
+	sim_event(sim, sim_stream_event[id]);
 }
 
 /* Produce the samples of stream id due by now; return its next due time */
@@ -706,6 +727,7 @@ void sim_power_on(struct sentral_sim *sim, ktime_t now)
 	sim->noise_state = 1;
 	WRITE_ONCE(sim->int_high, false);
 	sim->int_latched = false;
+	sim->wedged = false;
 	sim->nack_until = ktime_add_ms(now, sim->nack_after_reset_ms);
 
 	sim->producing = false;
@@ -735,7 +757,11 @@ void sim_model_init(struct sentral_sim *sim)
 	sim->accel_bias[2] = 46;
 	sim->ack_latency_us = 500;
 	sim->upload_ms = 10;
-	sim->ram_version = 0x0d17;
+	sim->ram_version = SIM_RAM_VERSION;
+	sim->rom_version = SIM_ROM_VERSION;
+	sim->product_id = SIM_PRODUCT_ID;
+	sim->revision_id = SIM_REVISION_ID;
+	sim->reset_int = true;
 	memcpy(sim->coeff_true, sim_coeff_true, sizeof(sim->coeff_true));
 	sim->score_floor_milli = SIM_SCORE_FLOOR_MILLI;
 	sim->drift_rng = 1;
@@ -802,9 +828,14 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 	case SIM_REG_SENTRAL_STATUS:
 		if (up)
 			return SIM_ST_EEPROM;
+		/* left running by a host's warm reboot: no standby (§3, §5) */
+		if (sim->wedged)
+			return SIM_ST_EEPROM | SIM_ST_UPLOAD_DONE;
 		/* bit 3 "StandbySt": the CPU is not executing (§1) */
 		return SIM_ST_EEPROM | SIM_ST_UPLOAD_DONE |
 		       (host & SIM_HOST_RUN ? 0 : SIM_ST_STANDBY);
+	case SIM_REG_SENSOR_STATUS:
+		return sim->sensor_status;
 	case SIM_REG_ALGO_STATUS:
 		v = algo & SIM_ALGO_STANDBY && !sim->standby_never ?
 			SIM_AS_STANDBY : 0;
@@ -846,17 +877,17 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 	case SIM_REG_CAL_SCORE_MSB:
 		return sim_cal_score_raw(sim) >> 8;
 	case SIM_REG_ROM_VERSION:
-		return SIM_ROM_VERSION & 0xff;
+		return sim->rom_version & 0xff;
 	case SIM_REG_ROM_VERSION + 1:
-		return SIM_ROM_VERSION >> 8;
+		return sim->rom_version >> 8;
 	case SIM_REG_RAM_VERSION:
 		return up ? 0 : sim->ram_version & 0xff;
 	case SIM_REG_RAM_VERSION + 1:
 		return up ? 0 : sim->ram_version >> 8;
 	case SIM_REG_PRODUCT_ID:
-		return SIM_PRODUCT_ID;
+		return sim->product_id;
 	case SIM_REG_REVISION_ID:
-		return SIM_REVISION_ID;
+		return sim->revision_id;
 	case SIM_REG_RUN_STATUS:
 		return !up && (host & SIM_HOST_RUN);
 	case SIM_REG_PASSTHRU_STATUS:

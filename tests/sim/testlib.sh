@@ -81,6 +81,16 @@ sim_poll_ack() {
 	done
 }
 
+# Poll ParamAcknowledge alone (one register per transaction, as the
+# reference hosts do) until it equals WANT or TIMEOUT_MS passes.
+sim_poll_ack1() {
+	local want=$(($1)) end=$(($(date +%s%N) / 1000000 + ${2:-1000}))
+	while [ $(($(sim_rd 0x3a))) -ne "$want" ]; do
+		[ $(($(date +%s%N) / 1000000)) -ge $end ] && return 1
+		sleep 0.005
+	done
+}
+
 # The documented parameter protocol (EM7180 register reference §2):
 # AlgorithmControl bit 7 set, per parameter one burst, ack polled on 0x3A,
 # end with ParamRequest = 0 and bit 7 clear.
