@@ -2,7 +2,10 @@
 # SPDX-License-Identifier: GPL-2.0-only
 #
 # The em7180 driver going away and coming back: unbind during a capture (the
-# reader ends, the device returns and captures again), unbind while a
+# reader ends, the device returns and captures again), what an unbind
+# leaves (the chip quiet and running where its supplies stay on, also when
+# the unbind waits for the interrupt thread to restore a chip that reset
+# itself), unbind while a
 # 35-parameter calibration_data read or write is in flight (the chip is left out of
 # parameter-transfer mode; save and restore work after the rebind), files
 # held open across an unload, the simulated bus unloaded under a capture, and
@@ -11,6 +14,8 @@
 # as before, and (on a kernel with kmemleak) no unreferenced object.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/lib/em7180.sh"
+# param_begin, param_read, param_end: a parameter transfer over i2c-dev
+. "$SENTRAL_ROOT/tests/sim/testlib.sh"
 
 CHANNELS="rot_quaternion accel_x accel_y accel_z anglvel_x anglvel_y anglvel_z timestamp"
 CYCLES=50
@@ -120,6 +125,50 @@ ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
 ok "the device is back and reads" wait_for 5 device_reads
 DEV=$(em7180_dir)
 is "buffer disabled on the new device" "$(cat "$DEV/buffer/enable")" 0
+
+# -- What unbinding leaves ----------------------------------------------------
+# The driver releases the chip's supplies on unbind (devm); before that it
+# leaves the chip quiet and running. The simulated board's supplies are
+# not switchable (no regulator is described), so the chip keeps its power,
+# as on breakout boards fed from the header, and an i2c-dev user finds it
+# running, with no interrupt pending, serving parameter transfers.
+SIM_BUS=$(sim_bus)
+enable_events() {
+	awk '$1 == "30:" { print $5 }' "$SIM_DBG/regs"
+}
+ok "unbind" sh -c "echo $CLIENT > $DRV/unbind"
+ok "unbound: algorithm running, not in transfer mode" chip_idle
+is "unbound: not in standby" "$(dbg_get state standby)" 0
+is "unbound: no event enabled (EnableEvents)" "$(enable_events)" 00
+is "unbound: INT low" "$(dbg_get state int)" 0
+is "unbound: a parameter read over i2c-dev" \
+	"$(eval 'param_begin && param_read 30 && param_end')" "$(dbg_get params 30)"
+ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
+ok "the device is back and reads" wait_for 5 device_reads
+
+# Teardown: an unbind while the interrupt thread restores a chip that
+# reset itself (a 1.5 s firmware upload) returns only once the thread is
+# done (free_irq() waits for it), and the quieting comes after the restore:
+# nothing the thread does outlives the unbind or undoes it, and nothing is
+# logged amiss.
+knob upload_ms 1500
+dmesg -c >/dev/null
+knob chip_reset 1
+t0=$(now_ms)
+ok "unbind while the chip's own reset is being handled" \
+	sh -c "echo $CLIENT > $DRV/unbind"
+echo "# unbind took $(($(now_ms) - t0)) ms"
+log=$(dmesg)
+like "the reset was being handled" "$log" "the chip reset itself"
+is "and nothing amiss logged" "$(grep -E 'cannot restore|WARNING|BUG|Oops|lockdep' <<<"$log")" ""
+ok "unbound after the reset: running, not in transfer mode" chip_idle
+is "unbound after the reset: HostControl run" "$(dbg_get state host_run)" 1
+is "unbound after the reset: no event enabled" "$(enable_events)" 00
+is "unbound after the reset: INT low" "$(dbg_get state int)" 0
+knob upload_ms 10
+ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
+ok "the device is back and reads" wait_for 5 device_reads
+DEV=$(em7180_dir)
 
 # -- Unbind during a calibration_data transfer --------------------------------------
 ok "save a reference blob" dd if="$DEV/calibration_data" of="$T/ref" bs=4096 status=none

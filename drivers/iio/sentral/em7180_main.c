@@ -1419,11 +1419,11 @@ static int em7180_standby(struct em7180_data *data)
 }
 
 /*
- * What unbinding leaves: the chip running as the driver configured it,
- * out of parameter transfer, with data interrupts off. The algorithm keeps
- * tracking and learning, and a user of i2c-dev (sentral-warmstart --i2c)
- * finds a chip that serves parameter transfers, which firmware does not
- * do in standby (the EM host driver leaves standby for them).
+ * Runs on unbind after the IIO device and its interrupt are gone, before
+ * devm turns the supplies off. Where those are fixed or shared (most
+ * boards) the chip stays powered, and i2c-dev users find it quiet but
+ * running, as firmware serves no parameter transfer in standby; where the
+ * driver can switch them, the chip is then off and loses its state.
  */
 static void em7180_unbind_action(void *arg)
 {
@@ -1545,6 +1545,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to configure the chip\n");
 
+	/* On unbind: after the IIO device and interrupt, before the supplies */
 	ret = devm_add_action_or_reset(dev, em7180_unbind_action, data);
 	if (ret)
 		return ret;
