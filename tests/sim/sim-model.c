@@ -914,9 +914,11 @@ static void sim_write_algo_control(struct sentral_sim *sim, u8 val,
 		if (sim->ack_end == SIM_ACK_END_CLEAR)
 			sim->param_ack = 0;
 		sim->transfer_ended = now;
+		/* the difference of the times state shows, to the microsecond */
 		sim->transfer_longest_us =
 			max(sim->transfer_longest_us,
-			    ktime_us_delta(now, sim->transfer_started));
+			    ktime_to_us(now) -
+			    ktime_to_us(sim->transfer_started));
 	}
 }
 
