@@ -32,8 +32,10 @@ modules:
 modules_install: modules
 	$(MAKE) -C $(KDIR) M=$(CURDIR) CONFIG_EM7180=m CONFIG_EM7180_I2C=m modules_install
 
+# The project's own builds fail on any warning (WERROR=1); a distribution's
+# package build (debian/rules) does not force it.
 tool:
-	$(MAKE) -C $(TOOL)
+	$(MAKE) -C $(TOOL) WERROR=1
 
 prepare:
 	tests/kernel/prepare $(VERSIONS)
@@ -77,7 +79,7 @@ bench: uml tool
 	tests/bench/bench
 
 fuzz:
-	$(MAKE) -C $(TOOL) fuzz
+	$(MAKE) -C $(TOOL) WERROR=1 fuzz
 
 # W=1 builds of the driver and the simulator for each architecture a user
 # may have, on each kernel of the matrix (tests/kernel/cross).  The .deb cross-builds

@@ -7,7 +7,9 @@
 # restores it (status 3 without motion, parameters equal to the file); a
 # corrupted file is refused at probe with the message in the kernel log,
 # the chip left alone and the file moved aside, after which the next good
-# calibration is saved and restored. With systemd (simulated): the device
+# calibration is saved and restored. The watcher the rule starts without
+# systemd: detached, one per chip, saves a new calibration by itself, exits
+# when the device goes. With systemd (simulated): the device
 # names its units by the key and binds them through an alias whose name
 # matches the units' BindsTo=; the units pass systemd-analyze verify.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
@@ -65,6 +67,49 @@ ok "replug: the new calibration is restored at probe" replug "$client"
 udevadm settle --timeout=10
 is "calibration_status 3 without motion" "$(cal_status)" 3
 is "the chip holds the new file's payload" "$(sim_ws_params)" "$(file_payload_words "$f")"
+
+# Without systemd the rule starts the watcher too (watch --daemon): detached
+# from udev, one per chip, it saves by itself once the calibration is
+# complete, and exits when the device goes away.
+watchfile=/run/sentral-warmstart/$key.watch
+watcher() { cat "$watchfile" 2>/dev/null; }
+alive() { [ -n "$1" ] && kill -0 "$1" 2>/dev/null; }
+gone() { ! alive "$1"; }
+watchers() { ps -eo args | grep -c '[s]entral-warmstart .*watch --daemon'; }
+w1=$(watcher)
+ok "a watcher runs since the last probe (pid $w1 in $watchfile)" alive "$w1"
+is "detached from udev: its parent is init" "$(ps -o ppid= -p "$w1" | tr -d ' ')" 1
+is "one watcher for the chip" "$(watchers)" 1
+mv "$f" /tmp/before-watch.ws
+ok "replug: the probe starts a watcher again" replug "$client"
+ok "udev's event ends at once (the rule's programs returned)" \
+	udevadm settle --timeout=10
+# The watcher writes its pid once it holds the lock, after udev is done.
+new_watcher() { [ "$(watcher)" != "$1" ] && alive "$(watcher)"; }
+ok "a new watcher holds the lock" wait_for 10 new_watcher "$w1"
+w2=$(watcher)
+like "replacing the old one" "$(dmesg)" \
+	"sentral-warmstart\[$w2\]: watch: replacing the watcher of $key \(pid $w1\)"
+ok "the old one stopped" wait_for 10 gone "$w1"
+is "still one watcher for the chip" "$(watchers)" 1
+nok "nothing saved before the calibration is complete" test -e "$f"
+ok "the chip learns a calibration" calibrate_by_motion
+ok "the watcher saves it by itself within a poll (30 s)" wait_for 45 test -s "$f"
+ok "a valid file" sentral-warmstart show "$f"
+like "the watcher says so in the kernel log" "$(dmesg)" \
+	"sentral-warmstart\[$w2\]: saved iio:device[0-9]+ calibration to $f"
+echo "$client" >/sys/bus/i2c/drivers/em7180/unbind
+ok "unbound: the watcher exits at its next poll" wait_for 45 gone "$w2"
+like "saying why" "$(dmesg)" "sentral-warmstart\[$w2\]: error: .*stopped watching it"
+echo "$client" >/sys/bus/i2c/drivers/em7180/bind
+wait_for 5 em7180_dir >/dev/null
+udevadm settle --timeout=10
+restored() { [ "$(cal_status)" = 3 ]; }
+ok "bound again: restored at probe" wait_for 5 restored
+ok "and watched again" wait_for 10 new_watcher "$w2"
+w3=$(watcher)
+kill "$w3"
+ok "a watcher stops on SIGTERM" wait_for 10 gone "$w3"
 
 # With systemd running, the rule hands over to the units instead.
 mkdir -p /run/systemd/system

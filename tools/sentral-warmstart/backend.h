@@ -51,13 +51,17 @@ struct sw_iio_opts {
 	const char *device;	/* --device, NULL: the single em7180 */
 	/* No matching device is a success with *out = NULL (save --if-present). */
 	bool gone_ok;
+	/* The driver's attributes checked against the tool's (abi.h), at open. */
+	bool check_abi;
+	const char *version;	/* the tool's, for the messages of that check */
 };
 
 /*
  * A failed access to attribute attr of the IIO device name, errno err, as
  * an exit code and a message saying what to do: the device gone (ENODEV,
- * or dir_gone: its sysfs directory vanished) is SW_EXIT_DEVICE, and so is
- * a missing attribute (an older driver); EBUSY names the buffer to stop.
+ * or dir_gone: its sysfs directory vanished) is SW_EXIT_DEVICE, a missing
+ * attribute (an older or newer driver) SW_EXIT_DRIVER; EBUSY names the
+ * buffer to stop.
  */
 int sw_iio_err(struct sw_err *e, const char *name, const char *op,
 	       const char *attr, int err, bool dir_gone);

@@ -16,6 +16,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "abi.h"
 #include "backend.h"
 
 #define IIO_SYSFS "/sys/bus/iio/devices"
@@ -58,6 +59,16 @@ static int read_text(const char *path, char *buf, size_t len)
 	while (n > 0 && (buf[n - 1] == '\n' || buf[n - 1] == ' '))
 		buf[--n] = '\0';
 	return 0;
+}
+
+/* For sw_abi_check(): ctx is the struct iio_be. */
+static bool attr_exists(const char *attr, void *ctx)
+{
+	struct iio_be *ib = ctx;
+	char path[PATH_MAX + 64];
+
+	snprintf(path, sizeof(path), "%s/%s", ib->dir, attr);
+	return access(path, F_OK) == 0;
 }
 
 /* A failed access: the device may have gone (unbound, unplugged). */
@@ -149,7 +160,7 @@ static int iio_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
 			 struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
-	unsigned int pid, rev, rom, ram;
+	unsigned int pid = 0, rev = 0, rom = 0, ram = 0;
 	int ret;
 
 	ret = attr_read_hex(ib, "product_id", 0xff, &pid, e);
@@ -544,6 +555,14 @@ int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 		return sw_err_set(e, SW_EXIT_DEVICE,
 				  "%u em7180 devices found: %s; choose one with --device",
 				  matches, list);
+	if (o->check_abi) {
+		ret = sw_abi_check(found->b.name, o->version, attr_exists,
+				   found, e);
+		if (ret) {
+			free(found);
+			return ret;
+		}
+	}
 	*out = &found->b;
 	return SW_EXIT_OK;
 }

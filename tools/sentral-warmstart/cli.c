@@ -31,7 +31,8 @@ enum {
 	OPT_MARGIN,
 	OPT_POLL,
 	OPT_NO_SAVE,
-	OPT_LAST = OPT_NO_SAVE,
+	OPT_DAEMON,
+	OPT_LAST = OPT_DAEMON,
 };
 
 static const struct option long_opts[] = {
@@ -52,6 +53,7 @@ static const struct option long_opts[] = {
 	{ "margin", required_argument, NULL, OPT_MARGIN },
 	{ "poll", required_argument, NULL, OPT_POLL },
 	{ "no-save", no_argument, NULL, OPT_NO_SAVE },
+	{ "daemon", no_argument, NULL, OPT_DAEMON },
 	{ "help", no_argument, NULL, OPT_HELP },
 	{ "version", no_argument, NULL, OPT_VERSION },
 	{ NULL, 0, NULL, 0 },
@@ -93,6 +95,7 @@ void sw_usage(FILE *f)
 	      "  show FILE                       decode and check a saved file\n"
 	      "  key [--udev]                    print the chip's key (names its file and units)\n"
 	      "  watch [--poll SEC] [--interval SEC] [--margin M] [--max-score S] [--file F]\n"
+	      "        [--daemon]\n"
 	      "                                  stay running and save whenever the calibration\n"
 	      "                                  becomes good enough and better than the saved one,\n"
 	      "                                  or the accel offsets change\n"
@@ -118,6 +121,8 @@ void sw_usage(FILE *f)
 	      "      --poll SEC        watch: read the calibration state every SEC seconds,\n"
 	      "                        1 to 3600 (default 30)\n"
 	      "      --interval SEC    watch: at most one write every SEC seconds (default 300)\n"
+	      "      --daemon          watch: detach (the udev rule without systemd); one\n"
+	      "                        watcher per chip, the newest replaces an older one\n"
 	      "      --margin M        watch: replace a good saved calibration only with a\n"
 	      "                        score at least M points lower (default 0.5)\n"
 	      "  -h, --help            this help\n"
@@ -129,6 +134,7 @@ void sw_usage(FILE *f)
 	      "  71 out of memory   72 state directory missing   74 I/O or bus error\n"
 	      "  75 calibration incomplete, timed out or unverified\n"
 	      "  77 refused: owner, mode or symbolic link of a file or directory\n"
+	      "  78 the em7180 driver is older or newer than this tool\n"
 	      "\n"
 	      "See sentral-warmstart(8).\n", f);
 }
@@ -236,6 +242,7 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 		{ OPT_INTERVAL, "--interval", 1u << SW_CMD_WATCH },
 		{ OPT_MARGIN, "--margin", 1u << SW_CMD_WATCH },
 		{ OPT_POLL, "--poll", 1u << SW_CMD_WATCH },
+		{ OPT_DAEMON, "--daemon", 1u << SW_CMD_WATCH },
 		{ OPT_NO_SAVE, "--no-save", 1u << SW_CMD_ACCEL_CAL },
 		{ OPT_TARGET_SCORE, "--target-score", 1u << SW_CMD_CALIBRATE },
 		{ OPT_TIMEOUT, "--timeout", 1u << SW_CMD_CALIBRATE },
@@ -394,6 +401,9 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 			break;
 		case OPT_NO_SAVE:
 			o->no_save = true;
+			break;
+		case OPT_DAEMON:
+			o->daemon = true;
 			break;
 		case OPT_HELP:
 			o->help = true;

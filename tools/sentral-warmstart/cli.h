@@ -37,6 +37,7 @@ struct sw_opts {
 	unsigned int interval_s; /* watch --interval: seconds between writes */
 	unsigned int poll_s;	/* watch --poll: seconds between looks */
 	bool no_save;		/* accel-cal --no-save */
+	bool daemon;		/* watch --daemon: detach, one watcher per key */
 	double margin;		/* watch --margin: improvement, percent points */
 	/* set by watch: a good saved file is replaced only by margin better */
 	bool improve_only;

@@ -18,8 +18,8 @@ int sw_iio_err(struct sw_err *e, const char *name, const char *op,
 				  "%s is gone (unbound or unplugged): %s %s: %s",
 				  name, op, attr, strerror(err));
 	if (err == ENOENT)
-		return sw_err_set(e, SW_EXIT_DEVICE,
-				  "%s: %s %s: the driver has no such attribute (older than this tool?)",
+		return sw_err_set(e, SW_EXIT_DRIVER,
+				  "%s: %s %s: the driver has no such attribute: it is older or newer than this tool",
 				  name, op, attr);
 	/* The driver refuses writes while a buffer runs; nothing ends it for us. */
 	if (err == EBUSY)

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "cmd.h"
+#include "daemon.h"
 
 static int run(const struct sw_opts *o, struct sw_env *env, struct sw_err *e)
 {
@@ -28,6 +29,12 @@ static int run(const struct sw_opts *o, struct sw_env *env, struct sw_err *e)
 			.device = o->device,
 			/* The unit's stop action after an unbind or unplug. */
 			.gone_ok = o->cmd == SW_CMD_SAVE && o->if_present,
+			/*
+			 * Not for key: udev names the device and its units
+			 * with it whatever the driver (the units then say).
+			 */
+			.check_abi = o->cmd != SW_CMD_KEY,
+			.version = SW_VERSION,
 		};
 
 		ret = sw_iio_open(&io, &b, e);
@@ -60,7 +67,9 @@ static int run(const struct sw_opts *o, struct sw_env *env, struct sw_err *e)
 		ret = sw_cmd_key(b, o, env, e);
 		break;
 	case SW_CMD_WATCH:
-		ret = sw_cmd_watch(b, o, env, e);
+		if (o->daemon)
+			ret = sw_daemon_start(SW_RUN_DIR, b->key, env, e);
+		ret = ret ? ret : sw_cmd_watch(b, o, env, e);
 		break;
 	default:
 		ret = sw_err_set(e, SW_EXIT_USAGE, "no command given");

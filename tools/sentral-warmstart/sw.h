@@ -29,6 +29,7 @@ enum sw_exit {
 	SW_EXIT_IO = EX_IOERR,		/* 74: sysfs, i2c bus or file system error */
 	SW_EXIT_CAL = EX_TEMPFAIL,	/* 75: calibration incomplete, timed out or unverified */
 	SW_EXIT_PERM = EX_NOPERM,	/* 77: refused: owner, mode or symlink */
+	SW_EXIT_DRIVER = EX_CONFIG,	/* 78: driver too old or too new for the tool */
 };
 
 /* Warm-start parameters 1..35, one little-endian float32 each. */

@@ -1130,8 +1130,8 @@ static void test_iio_errors(void **state)
 	sw_err_clear(&e);
 	assert_int_equal(sw_iio_err(&e, "iio:device0", "reading",
 				    "in_magn_calibration_update", ENOENT,
-				    false), SW_EXIT_DEVICE);
-	assert_non_null(strstr(e.msg, "no such attribute"));
+				    false), SW_EXIT_DRIVER);
+	assert_non_null(strstr(e.msg, "no such attribute: it is older or newer than this tool"));
 	sw_err_clear(&e);
 	assert_int_equal(sw_iio_err(&e, "iio:device0", "writing",
 				    "calibration_data", ETIMEDOUT, false),

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * sentral-warmstart: the em7180 driver's sysfs interface, checked by the
+ * names of its attributes (see abi.h).
+ */
+#include <stddef.h>
+
+#include "abi.h"
+
+/* Every attribute of the IIO device that the driver backend reads or writes. */
+static const char *const required[] = {
+	"calibration_data",
+	"product_id", "revision_id", "rom_version", "ram_version",
+	"in_magn_calibration_auto_status", "in_magn_calibration_score",
+	"in_magn_transient",
+	/* 1.1.0: flags kept until the next calibration_data transfer */
+	"in_anglvel_calibration_update", "in_magn_calibration_update",
+	"in_accel_x_raw", "in_accel_y_raw", "in_accel_z_raw",
+	"in_accel_x_calibbias", "in_accel_y_calibbias", "in_accel_z_calibbias",
+	"in_magn_x_raw", "in_magn_y_raw", "in_magn_z_raw", "in_magn_scale",
+};
+
+/* Attributes of earlier interfaces, gone since: a driver with one is older. */
+static const struct {
+	const char *attr;
+	const char *until;	/* the last interface that had it */
+} older[] = {
+	/* update counters, between 1.0.0 and 1.1.0 */
+	{ "in_magn_calibration_update_count", "the update counters" },
+	{ "in_anglvel_calibration_update_count", "the update counters" },
+};
+
+#define N(a) (sizeof(a) / sizeof((a)[0]))
+
+int sw_abi_check(const char *name, const char *version, sw_abi_has_fn has,
+		 void *ctx, struct sw_err *e)
+{
+	const char *missing = NULL;
+	unsigned int i, n = 0;
+
+	for (i = 0; i < N(required); i++) {
+		if (has(required[i], ctx))
+			continue;
+		if (!missing)
+			missing = required[i];
+		n++;
+	}
+	if (!missing)
+		return SW_EXIT_OK;
+	for (i = 0; i < N(older); i++)
+		if (has(older[i].attr, ctx))
+			return sw_err_set(e, SW_EXIT_DRIVER,
+					  "%s: the em7180 driver is older than sentral-warmstart %s: it has %s (%s) and lacks %s%s; install the em7180 driver of release %s (em7180-dkms) and reload it or reboot",
+					  name, version, older[i].attr,
+					  older[i].until, missing,
+					  n > 1 ? " and more" : "", version);
+	return sw_err_set(e, SW_EXIT_DRIVER,
+			  "%s: the em7180 driver lacks %s%s, which sentral-warmstart %s uses, and has no attribute of an earlier interface: it is newer than this tool; install the sentral-warmstart of the driver's release",
+			  name, missing, n > 1 ? " and more" : "", version);
+}

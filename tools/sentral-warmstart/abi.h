@@ -1,0 +1,29 @@
+/* SPDX-License-Identifier: GPL-2.0-only */
+/*
+ * sentral-warmstart: is the em7180 driver's sysfs interface the one this
+ * tool was written for? Told by which attributes the device has: every
+ * release that changes the meaning of an attribute renames it
+ * (README.md, Releases), so a name is enough and no version attribute is
+ * needed in the kernel.
+ */
+#ifndef SW_ABI_H
+#define SW_ABI_H
+
+#include <stdbool.h>
+
+#include "sw.h"
+
+/* Does the device have attribute attr (a file in its sysfs directory)? */
+typedef bool (*sw_abi_has_fn)(const char *attr, void *ctx);
+
+/*
+ * SW_EXIT_OK when the device named name has every attribute the tool
+ * uses; else SW_EXIT_DRIVER with a message that says which is missing,
+ * whether the driver is older than the tool (it has an attribute of an
+ * earlier interface) or newer (it has none), and what to install.
+ * version is the tool's.
+ */
+int sw_abi_check(const char *name, const char *version, sw_abi_has_fn has,
+		 void *ctx, struct sw_err *e);
+
+#endif
