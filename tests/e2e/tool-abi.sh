@@ -1,0 +1,90 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# sentral-warmstart against an em7180 driver older or newer than itself:
+# the device's directory is replaced (a bind mount of a copy) by one whose
+# attributes are an earlier release's (the update counters instead of the
+# update flags) or lack one the tool uses without any earlier one. Every
+# command but key and show then exits 78 before touching anything, with a
+# message that says older or newer and what to install; key still names
+# the device for udev; the watcher's unit does not restart on 78 and has a
+# start limit. With the real directory back, everything works again.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
+
+DEV=$(em7180_dir)
+ok "an em7180 IIO device is present" test -n "$DEV"
+real=$(readlink -f "$DEV")
+ok "status exits 0 with this release's driver" sentral-warmstart status
+version=$(sentral-warmstart --version | sed 's/.* //')
+key=$(sentral-warmstart key)
+
+# fake_dir DIR DROP... ADD...: a copy of the device's directory (its links as
+# they are, for libudev; its files as plain files), without the DROP ones
+# (names starting with -) and with ADD.
+fake_dir() {
+	local dir=$1 a
+	shift
+	rm -rf "$dir" && mkdir -p "$dir"
+	for a in "$real"/*; do
+		if [ -L "$a" ]; then
+			cp -P "$a" "$dir/"
+		elif [ -d "$a" ]; then
+			mkdir -p "$dir/${a##*/}"
+		elif [ -f "$a" ]; then
+			cat "$a" >"$dir/${a##*/}" 2>/dev/null || : >"$dir/${a##*/}"
+		fi
+	done
+	for a in "$@"; do
+		case $a in
+		-*) rm -f "$dir/${a#-}" ;;
+		*) echo 0 >"$dir/$a" ;;
+		esac
+	done
+}
+
+# with_dir DIR CMD...: CMD run with DIR in place of the device's directory,
+# in the environment of a udev event for the device (as the rule runs the
+# tool): libudev then takes the device from it, where it would refuse a
+# directory that is not sysfs.
+with_dir() {
+	local dir=$1 rc
+	shift
+	mount --bind "$dir" "$real" || return 125
+	SEQNUM=1 ACTION=add SUBSYSTEM=iio DEVPATH=${real#/sys} "$@"
+	rc=$?
+	umount "$real"
+	return $rc
+}
+
+# The update counters' driver (between 1.0.0 and 1.1.0).
+fake_dir /tmp/older -in_anglvel_calibration_update -in_magn_calibration_update \
+	in_anglvel_calibration_update_count in_magn_calibration_update_count
+out=$(with_dir /tmp/older sentral-warmstart status 2>&1)
+is "an older driver: status exits 78" $? 78
+is "saying so, with what to install" "$out" \
+	"sentral-warmstart: error: ${DEV##*/}: the em7180 driver is older than sentral-warmstart $version: it has in_magn_calibration_update_count (the update counters) and lacks in_anglvel_calibration_update and more; install the em7180 driver of release $version (em7180-dkms) and reload it or reboot"
+out=$(with_dir /tmp/older sentral-warmstart watch --poll 1 2>&1)
+is "watch exits 78 at once, not a loop" $? 78
+is "with one message" "$(grep -c 'error:' <<<"$out")" 1
+nok "it never started watching" grep -q '^watching' <<<"$out"
+out=$(with_dir /tmp/older sentral-warmstart restore --if-present 2>&1)
+is "restore exits 78 too, the chip untouched" $? 78
+out=$(with_dir /tmp/older sentral-warmstart key 2>&1)
+is "key still names the device (udev's rule needs it)" "$out" "$key"
+
+# A driver that renamed an attribute the tool uses: newer.
+fake_dir /tmp/newer -in_magn_calibration_update
+out=$(with_dir /tmp/newer sentral-warmstart save 2>&1)
+is "a newer driver: save exits 78" $? 78
+like "saying so" "$out" \
+	"the em7180 driver lacks in_magn_calibration_update, which sentral-warmstart $version uses, .*: it is newer than this tool; install the sentral-warmstart of the driver's release"
+
+ok "the real directory back: status exits 0" sentral-warmstart status
+unit=$SENTRAL_ROOT/tools/sentral-warmstart/systemd/sentral-warmstart@.service.in
+like "the watcher's unit does not restart on 69 or 78" "$(cat "$unit")" \
+	"(^|"$'\n'")RestartPreventExitStatus=69 78($|"$'\n'")"
+like "and gives up after a burst of failed starts" "$(cat "$unit")" \
+	"StartLimitIntervalSec=[0-9]+min"$'\n'"StartLimitBurst=[0-9]+"
+
+done_testing
