@@ -145,29 +145,6 @@ is "unbound: a parameter read over i2c-dev" \
 	"$(eval 'param_begin && param_read 30 && param_end')" "$(dbg_get params 30)"
 ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
 ok "the device is back and reads" wait_for 5 device_reads
-
-# Teardown: an unbind while the interrupt thread restores a chip that
-# reset itself (a 1.5 s firmware upload) returns only once the thread is
-# done (free_irq() waits for it), and the quieting comes after the restore:
-# nothing the thread does outlives the unbind or undoes it, and nothing is
-# logged amiss.
-knob upload_ms 1500
-dmesg -c >/dev/null
-knob chip_reset 1
-t0=$(now_ms)
-ok "unbind while the chip's own reset is being handled" \
-	sh -c "echo $CLIENT > $DRV/unbind"
-echo "# unbind took $(($(now_ms) - t0)) ms"
-log=$(dmesg)
-like "the reset was being handled" "$log" "the chip reset itself"
-is "and nothing amiss logged" "$(grep -E 'cannot restore|WARNING|BUG|Oops|lockdep' <<<"$log")" ""
-ok "unbound after the reset: running, not in transfer mode" chip_idle
-is "unbound after the reset: HostControl run" "$(dbg_get state host_run)" 1
-is "unbound after the reset: no event enabled" "$(enable_events)" 00
-is "unbound after the reset: INT low" "$(dbg_get state int)" 0
-knob upload_ms 10
-ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
-ok "the device is back and reads" wait_for 5 device_reads
 DEV=$(em7180_dir)
 
 # -- Unbind during a calibration_data transfer --------------------------------------
@@ -341,6 +318,33 @@ is "no kmalloc cache grew by $min objects in both $STRETCH-cycle stretches" \
 DEV=$(em7180_dir)
 ok "save after the reloads" dd if="$DEV/calibration_data" of="$T/b" bs=4096 status=none
 ok "chip idle" chip_idle
+
+# -- Unbind while the chip resets itself -------------------------------------
+# Last: the chip loses what it learned since power-on.
+# Teardown: an unbind while the interrupt thread restores a chip that
+# reset itself (a 1.5 s firmware upload) returns only once the thread is
+# done (free_irq() waits for it), and the quieting comes after the restore:
+# nothing the thread does outlives the unbind or undoes it, and nothing is
+# logged amiss.
+CLIENT=$(basename "$(readlink -f "$DEV/..")")
+knob upload_ms 1500
+dmesg -c >/dev/null
+knob chip_reset 1
+t0=$(now_ms)
+ok "unbind while the chip's own reset is being handled" \
+	sh -c "echo $CLIENT > $DRV/unbind"
+echo "# unbind took $(($(now_ms) - t0)) ms"
+log=$(dmesg)
+like "the reset was being handled" "$log" "the chip reset itself"
+is "and nothing amiss logged" "$(grep -E 'cannot restore|WARNING|BUG|Oops|lockdep' <<<"$log")" ""
+ok "unbound after the reset: running, not in transfer mode" chip_idle
+is "unbound after the reset: HostControl run" "$(dbg_get state host_run)" 1
+is "unbound after the reset: no event enabled" "$(enable_events)" 00
+is "unbound after the reset: INT low" "$(dbg_get state int)" 0
+knob upload_ms 10
+ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
+ok "the device is back and reads" wait_for 5 device_reads
+DEV=$(em7180_dir)
 
 kmemleak=/sys/kernel/debug/kmemleak
 if [ -w $kmemleak ]; then
