@@ -283,5 +283,6 @@ void sim_fire_irq(struct sentral_sim *sim);
 /* sim-debugfs.c: the chip's knobs in debugfs directory dir */
 int sim_debugfs_init(struct sentral_sim *sim, const char *dir);
 void sim_debugfs_exit(struct sentral_sim *sim);
+int sim_knobs_apply(struct sentral_sim *sim, const char *spec);
 
 #endif /* SENTRAL_SIM_H */

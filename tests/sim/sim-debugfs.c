@@ -746,25 +746,13 @@ static int sim_knob_open(struct inode *inode, struct file *file)
 	return single_open(file, sim_knob_show, inode->i_private);
 }
 
-static ssize_t sim_knob_write(struct file *file, const char __user *ubuf,
-			      size_t count, loff_t *ppos)
+static int sim_knob_store(struct sentral_sim *sim, const struct sim_knob *knob,
+			  char *buf)
 {
-	const struct sim_knob_file *kf = file_inode(file)->i_private;
-	const struct sim_knob *knob = kf->knob;
-	struct sentral_sim *sim = kf->sim;
 	unsigned long flags;
-	char buf[64];
 	ktime_t now;
 	bool fire;
 	int ret;
-
-	if (!knob->store)
-		return -EPERM;
-	if (count >= sizeof(buf))
-		return -EINVAL;
-	if (copy_from_user(buf, ubuf, count))
-		return -EFAULT;
-	buf[count] = '\0';
 
 	spin_lock_irqsave(&sim->lock, flags);
 	now = ktime_get();
@@ -776,7 +764,69 @@ static ssize_t sim_knob_write(struct file *file, const char __user *ubuf,
 
 	if (fire)
 		sim_fire_irq(sim);
+	return ret;
+}
+
+static ssize_t sim_knob_write(struct file *file, const char __user *ubuf,
+			      size_t count, loff_t *ppos)
+{
+	const struct sim_knob_file *kf = file_inode(file)->i_private;
+	const struct sim_knob *knob = kf->knob;
+	char buf[64];
+	int ret;
+
+	if (!knob->store)
+		return -EPERM;
+	if (count >= sizeof(buf))
+		return -EINVAL;
+	if (copy_from_user(buf, ubuf, count))
+		return -EFAULT;
+	buf[count] = '\0';
+
+	ret = sim_knob_store(kf->sim, knob, buf);
 	return ret ? ret : count;
+}
+
+/**
+ * sim_knobs_apply() - set knobs as if written to debugfs
+ * @sim: the chip
+ * @spec: "name=value[,name=value...]", or NULL
+ *
+ * For the knobs a chip must have before a driver probes it (the knobs
+ * module parameter).
+ *
+ * Return: 0, or -EINVAL for an unknown knob or a value it refuses.
+ */
+int sim_knobs_apply(struct sentral_sim *sim, const char *spec)
+{
+	char *dup, *rest, *item, *val;
+	int i, ret = 0;
+
+	if (!spec || !*spec)
+		return 0;
+	dup = kstrdup(spec, GFP_KERNEL);
+	if (!dup)
+		return -ENOMEM;
+	rest = dup;
+	while (!ret && (item = strsep(&rest, ",")) != NULL) {
+		val = strchr(item, '=');
+		if (!val) {
+			ret = -EINVAL;
+			break;
+		}
+		*val++ = '\0';
+		ret = -EINVAL;
+		for (i = 0; i < ARRAY_SIZE(sim_knobs); i++) {
+			if (!sim_knobs[i].store || strcmp(sim_knobs[i].name, item))
+				continue;
+			ret = sim_knob_store(sim, &sim_knobs[i], val) ? -EINVAL : 0;
+			break;
+		}
+	}
+	if (ret)
+		pr_err("sentral_sim: knobs: cannot set %s\n", item ? item : spec);
+	kfree(dup);
+	return ret;
 }
 
 static const struct file_operations sim_knob_fops = {

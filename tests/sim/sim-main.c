@@ -44,6 +44,10 @@ static unsigned int mux_channels;
 module_param(mux_channels, uint, 0444);
 MODULE_PARM_DESC(mux_channels, "channels of a mux at 0x70 on one more adapter, a chip behind each (0-4, default 0)");
 
+static char *knobs;
+module_param(knobs, charp, 0444);
+MODULE_PARM_DESC(knobs, "debugfs knobs set on every chip before its client is created: name=value[,name=value...]");
+
 /*
  * One adapter: a chip at 0x28, or a mux at 0x70 whose selected channel
  * (sel, under the adapter's bus lock) leads to chip[sel].
@@ -371,6 +375,11 @@ static struct sentral_sim *sim_chip_new(const char *dir)
 		return ERR_PTR(ret);
 	}
 	ret = sim_debugfs_init(sim, dir);
+	if (!ret) {
+		ret = sim_knobs_apply(sim, knobs);
+		if (ret)
+			sim_debugfs_exit(sim);
+	}
 	if (ret) {
 		sim_stop(sim);
 		sim_irq_exit(sim);
