@@ -108,3 +108,60 @@ apt_backports_source() {
 	printf 'Types: deb\nURIs: %s\nSuites: %s\nComponents: main\nSigned-By: %s\n' \
 		"$uri" "$suite" "$key" | $sudo tee "$list" >/dev/null
 }
+
+# apt_machine_uri SUITE: the URI of this machine's apt entry (deb822 first,
+# then one-line) for the suite SUITE, e.g. bookworm or bookworm-security:
+# the mirror this machine uses for it. Fails when there is none.
+apt_machine_uri() {
+	local want=$1 uri='' f
+
+	for f in /etc/apt/sources.list.d/*.sources; do
+		[ -f "$f" ] || continue
+		uri=$(awk -v want="$want" '
+			function flush() {
+				if (deb && has && !off && uri != "") { print uri; found = 1; exit }
+				deb = has = off = 0; uri = ""
+			}
+			/^[[:space:]]*$/ { flush(); next }
+			/^#/ { next }
+			tolower($1) == "enabled:" && tolower($2) == "no" { off = 1 }
+			tolower($1) == "types:" { for (i = 2; i <= NF; i++) if ($i == "deb") deb = 1 }
+			tolower($1) == "uris:" { uri = $2 }
+			tolower($1) == "suites:" { for (i = 2; i <= NF; i++) if ($i == want) has = 1 }
+			END { if (!found) flush() }' "$f") || true
+		[ -z "$uri" ] || break
+	done
+	if [ -z "$uri" ]; then
+		for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
+			[ -f "$f" ] || continue
+			uri=$(awk -v want="$want" '
+				$1 != "deb" { next }
+				{
+					i = 2
+					if ($2 ~ /^\[/)
+						for (; i <= NF; i++) if ($i ~ /\]$/) { i++; break }
+					if ($(i + 1) == want) { print $i; exit }
+				}' "$f") || true
+			[ -z "$uri" ] || break
+		done
+	fi
+	if [ -z "$uri" ]; then
+		echo "apt: no apt source for $want on this machine to take a mirror from" >&2
+		return 1
+	fi
+	echo "$uri"
+}
+
+# apt_release_sources RELEASE: one-line sources of the Debian release
+# RELEASE (main, its updates and its security suite; mmdebstrap takes them)
+# from the mirrors this machine uses for its own release and that
+# release's security suite, so that what builds an image follows whatever
+# mirror the machine is configured with.
+apt_release_sources() {
+	local rel=$1 codename uri sec
+	# shellcheck disable=SC1091
+	codename=$(. /etc/os-release && echo "$VERSION_CODENAME")
+	uri=$(apt_machine_uri "$codename") || return 1
+	sec=$(apt_machine_uri "$codename-security") || return 1
+	printf 'deb %s %s main\n' "$uri" "$rel" "$uri" "$rel-updates" "$sec" "$rel-security"
+}
