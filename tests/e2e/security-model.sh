@@ -410,20 +410,23 @@ knob ack_never 0
 knob nack_at 1
 nok "calibration_data read with a NACK fails" dd if="$DEV/calibration_data" of=/dev/null bs=4096 count=1
 is "transfer mode ended" "$(dbg_get state transfer)" 0
-# A chip that hands out a NaN: the driver passes it to root only, the tool
-# refuses to save it.
+# A chip that hands out a NaN: the driver refuses the read (the write path
+# would refuse that blob, so it could never be restored) and says which
+# parameter; the tool saves nothing.
 i2ctransfer -f -y "$bus" w2@0x28 0x54 0x80
 i2ctransfer -f -y "$bus" w6@0x28 0x60 0x00 0x00 0xc0 0x7f 0x94
 sleep 0.1
 i2ctransfer -f -y "$bus" w2@0x28 0x64 0x00
 i2ctransfer -f -y "$bus" w2@0x28 0x54 0x00
 is "the chip now holds a NaN in parameter 20" "$(sim_param 20)" 0x7fc00000
-is "the driver hands it to root as it is" \
-	"$(dd if="$DEV/calibration_data" bs=4096 count=1 status=none | blob_words | awk '{ print $20 }')" \
-	0x7fc00000
+like "the driver refuses to hand it out: EIO" \
+	"$(dd if="$DEV/calibration_data" bs=4096 count=1 status=none 2>&1)" \
+	"Input/output error"
+like "and logs the parameter" "$(dmesg | tail -n 5)" \
+	"parameter 20 holds 0x7fc00000, not a finite float"
 out=$(sentral-warmstart save --force --file /tmp/nan.ws 2>&1)
 is "save of a NaN read from the chip: exit 74" $? 74
-like "and says why" "$out" "not a finite number; not saving"
+like "and says why" "$out" "calibration_data"
 nok "no file written" test -e /tmp/nan.ws
 # A firmware upload that never completes: probe gives up in bounded time.
 echo "$client" >/sys/bus/i2c/drivers/em7180/unbind
