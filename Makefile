@@ -16,6 +16,8 @@
 #                     and the overlay
 #   make deb          Debian packages sentral-warmstart and em7180-dkms in build/deb/
 #                     (DEB_ARCH=arm64: cross-built, in build/deb-arm64/)
+#   make dist         the release tarball build/sentral-VERSION.tar.gz of the
+#                     committed tree (HEAD); it builds the .debs without git
 #   make system-check install the packages in a Debian image, boot it under QEMU
 
 KDIR     ?= /lib/modules/$(shell uname -r)/build
@@ -111,6 +113,20 @@ deb:
 	cd $(DEB_OUT)/src && dpkg-buildpackage $(if $(DEB_ARCH),-a $(DEB_ARCH) -Pcross) -us -uc -b
 	lintian --fail-on error,warning $(DEB_OUT)/*.changes
 
+# The release tarball: the committed tree (HEAD, not uncommitted changes)
+# under sentral-VERSION/, VERSION the newest entry of debian/changelog.
+# Nothing in its build needs git: unpacked anywhere, `dpkg-buildpackage
+# -us -uc -b` in it builds the .debs (tests/kernel/dist checks it).
+DIST_VERSION = $(shell sed -n '1s/^[^(]*(\([^)]*\)).*/\1/p' debian/changelog)
+dist:
+	@test -n "$(DIST_VERSION)" || { echo "make dist: no version in debian/changelog"; exit 1; }
+	@git diff --quiet HEAD -- 2>/dev/null || \
+		echo "make dist: uncommitted changes are not in the tarball (it is HEAD)"
+	mkdir -p build
+	git archive --format=tar.gz --prefix=sentral-$(DIST_VERSION)/ \
+		-o build/sentral-$(DIST_VERSION).tar.gz HEAD
+	@echo "build/sentral-$(DIST_VERSION).tar.gz"
+
 # The packages installed in a Debian 12 image and booted under QEMU with
 # systemd on the stock 6.1 and 6.12 kernels (builds the packages itself).
 system-check:
@@ -129,4 +145,4 @@ distclean: clean
 	rm -rf build
 
 .PHONY: all modules modules_install tool prepare uml kunit check check-long demo bench fuzz \
-	cross upstream overlay deb system-check install clean distclean
+	cross upstream overlay deb dist system-check install clean distclean
