@@ -2,9 +2,9 @@
 /*
  * PNI SENtral / EM Microelectronic EM7180 sensor-fusion hub
  *
- * Register and protocol facts follow the EM7180 register reference §1-§3,
- * which collects them from the EM Microelectronic generic host driver and
- * the Sony em718x driver, and the PNI warm start application note.
+ * Register and protocol facts follow EM Microelectronic's GPL generic host
+ * driver (em718x_registers.h, em718x_core.c), the Sony em718x driver and
+ * PNI's warm start application note.
  */
 #ifndef _EM7180_H_
 #define _EM7180_H_

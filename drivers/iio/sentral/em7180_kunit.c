@@ -39,7 +39,7 @@ enum emu_ack_end {
 	EMU_ACK_END_KEPT,	/* keeps its last echo */
 };
 
-/* Just enough of the chip for the parameter procedure (reference §2) */
+/* Just enough of the chip for the parameter procedure */
 struct em7180_emu {
 	u8 regs[256];
 	u32 params[EM7180_PARAM_MAX + 1];

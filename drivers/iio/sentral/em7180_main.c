@@ -4,7 +4,8 @@
  *
  * The hub runs its own fusion algorithm and presents scaled accelerometer,
  * gyroscope and magnetometer data plus an orientation quaternion in a
- * register map (EM7180 register reference §1). It learns a magnetometer
+ * register map (the map of EM's generic host driver, em718x_registers.h,
+ * and of the Sony em718x driver). It learns a magnetometer
  * calibration and a gyroscope bias while running; the 35 "warm start"
  * parameters that hold them are exposed as one binary attribute so that
  * userspace can save them and restore them at the next boot.
@@ -48,12 +49,12 @@
 #include "em7180.h"
 #include "em7180_compat.h"
 
-/* EM7180 register reference §3: the EM host driver allows 4 s for upload */
+/* EM's generic host driver (em718x_core.c) allows 4 s for the upload */
 #define EM7180_UPLOAD_POLL_US		10000
 #define EM7180_UPLOAD_TIMEOUT_US	4000000
 #define EM7180_STANDBY_POLL_US		1000
 #define EM7180_STANDBY_TIMEOUT_US	1000000
-/* Power-on reset; then the chip may not acknowledge for a while (§3) */
+/* Power-on reset; then the chip may not acknowledge for a while */
 #define EM7180_POWER_ON_US		10000
 #define EM7180_READY_POLL_US		5000
 #define EM7180_READY_TIMEOUT_US		200000
@@ -137,7 +138,7 @@ const struct regmap_config em7180_regmap_config = {
 };
 EXPORT_SYMBOL_NS_GPL(em7180_regmap_config, "IIO_EM7180");
 
-/* Scaled output units, EM7180 register reference §1 "Units and scaling" */
+/* Scaled output units, as EM's driver_ext.h and the USFS host libraries give them */
 static const int em7180_accel_scale[] = { 0, 4785645 };	/* 0.000488 g */
 static const int em7180_anglvel_scale[] = { 0, 2663372 };	/* 0.1526 dps */
 static const int em7180_magn_scale[] = { 0, 305176 };	/* 0.0305176 uT */
@@ -1294,7 +1295,7 @@ static int em7180_read_status(struct em7180_data *data, unsigned int *status)
 
 /*
  * After power-on or a reset the chip uploads its firmware from EEPROM; a
- * chip found stuck is reset once (EM7180 register reference §3 and §5).
+ * chip found stuck is reset once, as the USFS host libraries do.
  * While it resets it may not acknowledge its address at all (the
  * reference drivers wait about 50 ms): a bus error is one more poll, and
  * only the last one counts. Reports nothing itself: probe and resume word
@@ -1339,8 +1340,8 @@ static int em7180_wait_firmware(struct em7180_data *data,
 }
 
 /*
- * Configure while HostControl is 0, then run (EM7180 register reference
- * §3): the rates and outputs are set before the sensors start. Leaves any
+ * Configure while HostControl is 0, then run, as em718x_core.c does: the
+ * rates and outputs are set before the sensors start. Leaves any
  * parameter transfer an earlier user may have abandoned, and reads
  * EventStatus, which holds the CPUReset of the upload, so that enabling
  * the reset event does not report a reset at once.

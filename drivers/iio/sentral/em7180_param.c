@@ -2,8 +2,8 @@
 /*
  * EM7180 parameter transfer and IEEE-754 single precision helpers.
  *
- * Protocol (EM7180 register reference §2, from the EM generic host driver
- * and the Sony em718x driver): with AlgorithmControl bit 7 set, a write of
+ * Protocol (EM's generic host driver, em718x_core.c, and the Sony em718x
+ * driver): with AlgorithmControl bit 7 set, a write of
  * ParamRequest = n (read) or n | 0x80 (write, value in LoadParamByte0..3)
  * is served by the firmware, which then echoes the request in
  * ParamAcknowledge and, for a read, puts the value in SavedParamByte0..3.
