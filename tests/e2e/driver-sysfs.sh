@@ -75,6 +75,21 @@ is "identity attributes mode 0444" \
 	"$(stat -c %a "$DEV"/{product_id,revision_id,rom_version,ram_version} | tr '\n' ' ')" \
 	"444 444 444 444 "
 
+# debugfs register access (IIO's direct_reg_access), for debugging real chips
+REG=/sys/kernel/debug/iio/iio:device$N/direct_reg_access
+knob product_id 0x81
+echo 0x90 >"$REG"
+is "direct_reg_access reads ProductID from the chip" "$(cat "$REG")" 0x81
+knob product_id 0x80
+rate=$(cat "$DEV/in_magn_sampling_frequency")
+echo "0x55 0x1e" >"$REG"
+is "direct_reg_access writes MagRate to the chip" \
+	"$(awk '$1 == "50:" { print $7 }' "$SIM_DBG/regs")" 1e
+is "... which runs the magnetometer at 30 Hz" "$(cat "$DEV/in_magn_sampling_frequency")" 30
+echo "$rate" >"$DEV/in_magn_sampling_frequency"
+echo 0x35 >"$REG"
+nok "direct_reg_access refuses EventStatus, which a read clears" cat "$REG"
+
 is "accel raw = gravity + Table 1 bias" \
 	"$(cat "$DEV"/in_accel_{x,y,z}_raw | tr '\n' ' ')" "-47 -15 2094 "
 is "in_accel_scale (0.000488 g in m/s^2)" "$(cat "$DEV/in_accel_scale")" 0.004785645

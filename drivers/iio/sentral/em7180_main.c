@@ -872,11 +872,33 @@ static const struct attribute_group em7180_attr_group = {
 	.bin_attrs = em7180_bin_attrs,
 };
 
+/*
+ * Register access for debugging real chips. Reading a clear-on-read
+ * register here would take an event or an update flag from the driver, so
+ * those are refused.
+ */
+static int em7180_debugfs_reg_access(struct iio_dev *indio_dev,
+				     unsigned int reg, unsigned int writeval,
+				     unsigned int *readval)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+
+	guard(mutex)(&data->lock);
+	if (!readval)
+		return regmap_write(data->regmap, reg, writeval);
+	if (regmap_reg_in_ranges(reg, em7180_precious_ranges,
+				 ARRAY_SIZE(em7180_precious_ranges)))
+		return -EPERM;
+
+	return regmap_read(data->regmap, reg, readval);
+}
+
 static const struct iio_info em7180_info = {
 	.read_raw_multi = em7180_read_raw_multi,
 	.read_avail = em7180_read_avail,
 	.write_raw = em7180_write_raw,
 	.write_raw_get_fmt = em7180_write_raw_get_fmt,
+	.debugfs_reg_access = em7180_debugfs_reg_access,
 	.attrs = &em7180_attr_group,
 };
 
