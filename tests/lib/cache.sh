@@ -45,3 +45,27 @@ tree_key() {
 		find . -type f ! "${build[@]}" -printf '%P %s %T@\n' | sort
 	}) | sha256sum | cut -c1-16
 }
+
+# cached_tarball NAME KEY MAKE...: print the path of
+# $SENTRAL_CACHE/NAME-KEY.tar, made first when missing by MAKE... run with
+# the path to write appended (moved into place only when MAKE succeeds, its
+# output on stderr). One maker at a time: a second waits for the lock, then
+# finds the file. The files of NAME under other keys are deleted: nothing
+# made now uses them.
+cached_tarball() {
+	local name=$1 key=$2 file
+	shift 2
+	file=$SENTRAL_CACHE/$name-$key.tar
+	if [ ! -s "$file" ]; then
+		mkdir -p "$SENTRAL_CACHE" || return 1
+		(
+			flock 9
+			[ -s "$file" ] && exit 0
+			"$@" "$file.tmp" >&2 || { rm -f "$file.tmp"; exit 1; }
+			mv "$file.tmp" "$file" &&
+				find "$SENTRAL_CACHE" -maxdepth 1 -name "$name-????????????????.tar" \
+					! -name "${file##*/}" -delete
+		) 9>"$SENTRAL_CACHE/$name.lock" || return 1
+	fi
+	echo "$file"
+}
