@@ -128,9 +128,10 @@ dist:
 	@echo "build/sentral-$(DIST_VERSION).tar.gz"
 
 # The packages installed in a Debian 12 image and booted under QEMU with
-# systemd on the stock 6.1 and 6.12 kernels (builds the packages itself).
+# systemd on the stock 6.1 and 6.12 kernels (builds the packages itself);
+# RELEASE=trixie: a Debian 13 image, its stock 6.12 and 7.2 from backports.
 system-check:
-	tests/system/run
+	tests/system/run $(RELEASE)
 
 install: modules_install
 	$(MAKE) -C $(TOOL) install
