@@ -91,7 +91,13 @@ PYEOF
 
 # --- The chip's own trigger ---------------------------------------------
 is "default trigger" "$(cat "$DEV/trigger/current_trigger")" "em7180-dev$N"
-d0=$(samples quaternion drops_seen)
+# The driver's drops: samples lost although it had read their data event,
+# less those a simulator timer running half a period late replaced (the
+# whole machine stalled in between: UML under load), as make bench counts.
+driver_drops() {
+	echo $(($(samples quaternion drops_seen) - $(samples quaternion drops_seen_held)))
+}
+d0=$(driver_drops)
 capture "em7180-dev$N" "$TMP/own.bin"
 is "$SAVES calibration_data reads while streaming, none refused" "$failed" 0
 [ "$failed" = 0 ] || sed 's/^/#   /' "$TMP"/own.bin.err*
@@ -102,8 +108,10 @@ ok "each read is the whole blob" \
 out=$(check_stream "$TMP/own.bin" "$TMP/own.bin.xfers" $((1000000 / RATE)) \
 	$((1000000 / RATE)) 2>&1)
 like "one honest gap per save, the stream resumed at once" "$out" '^ok: '
-is "no sample the driver saw and did not read" \
-	"$(samples quaternion drops_seen)" "$d0"
+drops=$(driver_drops)
+is "no sample the driver saw and did not read" "$drops" "$d0"
+[ "$drops" = "$d0" ] ||
+	sed -n 's/^quaternion_/#   /p; s/^timer_late/#   &/p' "$SIM_DBG/samples"
 is "the chip is out of transfer mode" "$(dbg_get state transfer)" 0
 is "and running" "$(dbg_get state running)" 1
 
