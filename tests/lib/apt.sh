@@ -50,7 +50,7 @@ apt_install_missing() {
 # upgraded from it or from its base release: only what is installed from it
 # by name (apt-get install -t SUITE PACKAGE) comes from there.
 apt_backports_source() {
-	local suite=$1 base=${1%-backports} codename uri='' key='' f
+	local suite=$1 base=${1%-backports} codename uri key
 	local list=/etc/apt/sources.list.d/sentral-$1.sources
 	local pref=/etc/apt/preferences.d/sentral-$1
 	local sudo=''
@@ -63,27 +63,40 @@ apt_backports_source() {
 	[ -f "$list" ] && return 0
 	# shellcheck disable=SC1091
 	codename=$(. /etc/os-release && echo "$VERSION_CODENAME")
-	# deb822 entries first (Debian 12's default), then one-line ones.
+	read -r uri key < <(apt_machine_entry "$codename") || return 1
+	key=${key:-/usr/share/keyrings/debian-archive-keyring.gpg}
+	printf 'Types: deb\nURIs: %s\nSuites: %s\nComponents: main\nSigned-By: %s\n' \
+		"$uri" "$suite" "$key" | $sudo tee "$list" >/dev/null
+}
+
+# apt_machine_entry SUITE: "URI KEYRING" of this machine's enabled apt
+# entry (deb822 first, then one-line) for the suite SUITE, e.g. bookworm or
+# bookworm-security: the mirror this machine uses for it and the keyring
+# it names, if any. Fails when there is none.
+apt_machine_entry() {
+	local want=$1 entry='' f
+
 	for f in /etc/apt/sources.list.d/*.sources; do
 		[ -f "$f" ] || continue
-		read -r uri key < <(awk -v want="$codename" '
+		entry=$(awk -v want="$want" '
 			function flush() {
-				if (deb && has) { print uri, key; found = 1; exit }
-				deb = has = 0; uri = key = ""
+				if (deb && has && !off && uri != "") { print uri, key; found = 1; exit }
+				deb = has = off = 0; uri = key = ""
 			}
 			/^[[:space:]]*$/ { flush(); next }
 			/^#/ { next }
+			tolower($1) == "enabled:" && tolower($2) == "no" { off = 1 }
 			tolower($1) == "types:" { for (i = 2; i <= NF; i++) if ($i == "deb") deb = 1 }
 			tolower($1) == "uris:" { uri = $2 }
 			tolower($1) == "suites:" { for (i = 2; i <= NF; i++) if ($i == want) has = 1 }
 			tolower($1) == "signed-by:" { key = $2 }
 			END { if (!found) flush() }' "$f") || true
-		[ -z "$uri" ] || break
+		[ -z "$entry" ] || break
 	done
-	if [ -z "$uri" ]; then
+	if [ -z "$entry" ]; then
 		for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
 			[ -f "$f" ] || continue
-			read -r uri key < <(awk -v want="$codename" '
+			entry=$(awk -v want="$want" '
 				$1 != "deb" { next }
 				{
 					key = ""; i = 2
@@ -97,59 +110,21 @@ apt_backports_source() {
 					}
 					if ($(i + 1) == want) { print $i, key; exit }
 				}' "$f") || true
-			[ -z "$uri" ] || break
+			[ -z "$entry" ] || break
 		done
 	fi
-	if [ -z "$uri" ]; then
-		echo "apt: no apt source for $codename to take a mirror from" >&2
-		return 1
-	fi
-	key=${key:-/usr/share/keyrings/debian-archive-keyring.gpg}
-	printf 'Types: deb\nURIs: %s\nSuites: %s\nComponents: main\nSigned-By: %s\n' \
-		"$uri" "$suite" "$key" | $sudo tee "$list" >/dev/null
-}
-
-# apt_machine_uri SUITE: the URI of this machine's apt entry (deb822 first,
-# then one-line) for the suite SUITE, e.g. bookworm or bookworm-security:
-# the mirror this machine uses for it. Fails when there is none.
-apt_machine_uri() {
-	local want=$1 uri='' f
-
-	for f in /etc/apt/sources.list.d/*.sources; do
-		[ -f "$f" ] || continue
-		uri=$(awk -v want="$want" '
-			function flush() {
-				if (deb && has && !off && uri != "") { print uri; found = 1; exit }
-				deb = has = off = 0; uri = ""
-			}
-			/^[[:space:]]*$/ { flush(); next }
-			/^#/ { next }
-			tolower($1) == "enabled:" && tolower($2) == "no" { off = 1 }
-			tolower($1) == "types:" { for (i = 2; i <= NF; i++) if ($i == "deb") deb = 1 }
-			tolower($1) == "uris:" { uri = $2 }
-			tolower($1) == "suites:" { for (i = 2; i <= NF; i++) if ($i == want) has = 1 }
-			END { if (!found) flush() }' "$f") || true
-		[ -z "$uri" ] || break
-	done
-	if [ -z "$uri" ]; then
-		for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
-			[ -f "$f" ] || continue
-			uri=$(awk -v want="$want" '
-				$1 != "deb" { next }
-				{
-					i = 2
-					if ($2 ~ /^\[/)
-						for (; i <= NF; i++) if ($i ~ /\]$/) { i++; break }
-					if ($(i + 1) == want) { print $i; exit }
-				}' "$f") || true
-			[ -z "$uri" ] || break
-		done
-	fi
-	if [ -z "$uri" ]; then
+	if [ -z "$entry" ]; then
 		echo "apt: no apt source for $want on this machine to take a mirror from" >&2
 		return 1
 	fi
-	echo "$uri"
+	echo "$entry"
+}
+
+# apt_machine_uri SUITE: the URI of apt_machine_entry SUITE.
+apt_machine_uri() {
+	local entry
+	entry=$(apt_machine_entry "$1") || return 1
+	echo "${entry%% *}"
 }
 
 # apt_release_sources RELEASE: one-line sources of the Debian release
