@@ -50,8 +50,11 @@ is "debugfs is 0700 root" "$(perm /sys/kernel/debug)" "700 root root"
 nok "the udev rule sets no device node mode" \
 	grep -qE '^[^#]*(MODE|OWNER|GROUP)' "$SENTRAL_ROOT"/tools/sentral-warmstart/udev/*.rules*
 
-ok "the driver adds no debugfs files (no register access)" \
-	test ! -e "/sys/kernel/debug/iio/$(basename "$DEV")"
+# Register access for debugging (IIO's direct_reg_access): root's alone
+reg_access=/sys/kernel/debug/iio/$(basename "$DEV")/direct_reg_access
+is "the driver's one debugfs file is register access, 0644 root" \
+	"$(ls "$(dirname "$reg_access")") $(perm "$reg_access")" "direct_reg_access 644 root root"
+nok "nobody cannot read registers through it" as_nobody cat "$reg_access"
 # The IIO core makes every info attribute root-writable; only
 # sampling_frequency and calibbias take a write, within their range.
 knob stats 0
