@@ -5,11 +5,13 @@
  * Parameter transfer as EM7180 register reference §2 gives it (sources:
  * [2+] EM generic host driver, Sony em718x), with the seed app note's
  * errors corrected: AlgorithmControl bit 7 is set once per batch; each
- * parameter is one 5-byte burst LoadParamByte0..3 + ParamRequest
- * (0x60..0x64), or ParamRequest alone for a read; ParamAcknowledge and
- * SavedParamByte0..3 (0x3A..0x3E) are polled in one 5-byte read; the
- * batch always ends with ParamRequest = 0 and bit 7 cleared, on error
- * paths too, so the fusion algorithm is never left paused.
+ * parameter is written as EM's and Sony's drivers do, LoadParamByte0..3
+ * (0x60..0x63) in one write and ParamRequest alone; ParamAcknowledge
+ * (0x3A) is polled alone and a value read at 0x3B once acknowledged: no
+ * reference host crosses 0x63->0x64 or 0x3A->0x3B in one transfer, so
+ * silicon may not. The batch always ends with ParamRequest = 0 and bit 7
+ * cleared, on error paths too, so the fusion algorithm is never left
+ * paused.
  */
 #include <errno.h>
 #include <fcntl.h>
@@ -30,6 +32,7 @@
 #define REG_MAG		0x12
 #define REG_ACCEL	0x1a
 #define REG_PARAM_ACK	0x3a
+#define REG_SAVED_PARAM	0x3b
 #define REG_CAL_STATUS	0x43
 /* 0x43 status, 0x44 update flags ... 0x4D-0x4E score: one burst */
 #define CAL_BLOCK_LEN	12
@@ -169,21 +172,22 @@ static int param_wait_ack(struct i2c_be *ib, uint8_t req, uint8_t *val,
 			  struct sw_err *e)
 {
 	uint64_t start = now_us();
-	uint8_t buf[5];
+	uint8_t ack;
 
 	if (ib->ack_us > ACK_POLL_US)
 		sleep_us(ib->ack_us - ACK_POLL_US);
 	for (;;) {
 		uint64_t t;
 
-		if (i2c_bus_read(ib->fd, ib->addr, REG_PARAM_ACK, buf, 5) < 0)
+		if (i2c_bus_read(ib->fd, ib->addr, REG_PARAM_ACK, &ack, 1) < 0)
 			return bus_err(ib, "reading", REG_PARAM_ACK, e);
 		t = now_us() - start;
-		if (buf[0] == req) {
+		if (ack == req) {
 			/* Learn the chip's latency: a cheap moving average. */
 			ib->ack_us = (ib->ack_us * 3 + (long)t) / 4;
-			if (val)
-				memcpy(val, buf + 1, 4);
+			if (val && i2c_bus_read(ib->fd, ib->addr,
+						REG_SAVED_PARAM, val, 4) < 0)
+				return bus_err(ib, "reading", REG_SAVED_PARAM, e);
 			return SW_EXIT_OK;
 		}
 		if (sw_signal_pending())
@@ -192,7 +196,7 @@ static int param_wait_ack(struct i2c_be *ib, uint8_t req, uint8_t *val,
 			return sw_err_set(e, SW_EXIT_IO,
 					  "%s: parameter %u not acknowledged within %d ms (ParamAcknowledge 0x%02x)",
 					  ib->b.name, req & 0x7f,
-					  ACK_TIMEOUT_US / 1000, buf[0]);
+					  ACK_TIMEOUT_US / 1000, ack);
 		sleep_us(ACK_POLL_US);
 	}
 }
@@ -232,7 +236,7 @@ static void mixed_note(int first, int count, int i, struct sw_err *e)
 static int param_batch(struct i2c_be *ib, int first, int count, bool write,
 		       uint8_t *vals, struct sw_err *e)
 {
-	uint8_t ac, v, zero = 0, burst[5];
+	uint8_t ac, v, zero = 0;
 	int i = -1, ret = SW_EXIT_OK;	/* -1: no parameter sent yet */
 
 	if (i2c_bus_read(ib->fd, ib->addr, REG_ALGO_CTRL, &ac, 1) < 0)
@@ -252,15 +256,13 @@ static int param_batch(struct i2c_be *ib, int first, int count, bool write,
 		}
 		if (write) {
 			req |= PARAM_WRITE;
-			memcpy(burst, vals + 4 * i, 4);
-			burst[4] = req;
 			if (i2c_bus_write(ib->fd, ib->addr, REG_LOAD_PARAM,
-					     burst, 5) < 0) {
+					     vals + 4 * i, 4) < 0) {
 				ret = bus_err(ib, "writing", REG_LOAD_PARAM, e);
 				goto end;
 			}
-		} else if (i2c_bus_write(ib->fd, ib->addr, REG_PARAM_REQ,
-					    &req, 1) < 0) {
+		}
+		if (i2c_bus_write(ib->fd, ib->addr, REG_PARAM_REQ, &req, 1) < 0) {
 			ret = bus_err(ib, "writing", REG_PARAM_REQ, e);
 			goto end;
 		}
