@@ -29,10 +29,9 @@
 
 #include <kunit/visibility.h>
 
-#include "em7180.h"
+#include "em7180_core.h"
 #include "em7180_compat.h"
 
-#define EM7180_CAL_BLOCK_LEN	(EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS)
 #define EM7180_CAL_MAX_AGE_MS	500
 
 /**

@@ -21,6 +21,7 @@
 #include <linux/string.h>
 
 #include "em7180.h"
+#include "em7180_core.h"
 #include "em7180_compat.h"
 
 #define EMU_LOG_MAX		256
@@ -50,6 +51,7 @@ struct em7180_emu {
 	bool ack_never;
 	enum emu_ack_end ack_end;
 	bool standby_stuck;		/* AlgorithmStatus never shows standby */
+	bool autoinc_stop;		/* the pointer stops at 0x3A and 0x63 */
 	unsigned int ack_latency_us;
 	bool pending;
 	ktime_t req_time;
@@ -125,22 +127,36 @@ static void emu_serve(struct em7180_emu *emu)
 	emu->pending = false;
 }
 
+/* The register pointer after one byte at @reg */
+static u8 emu_next(const struct em7180_emu *emu, u8 reg)
+{
+	if (emu->autoinc_stop && (reg == EM7180_REG_PARAM_ACK ||
+				  reg == EM7180_REG_PARAM_REQ - 1))
+		return reg;
+	return reg + 1;
+}
+
 static int emu_write(void *context, const void *buf, size_t count)
 {
 	struct em7180_emu *emu = context;
 	u8 old_algo = emu->regs[EM7180_REG_ALGO_CTRL];
 	const u8 *b = buf;
+	bool req = false, algo = false;
 	unsigned int i;
+	u8 reg;
 
 	if (++emu->transactions == emu->nack_at)
 		return -EIO;
 
 	emu_log(emu, true, b[0], b + 1, count - 1);
-	for (i = 1; i < count; i++)
-		emu->regs[(u8)(b[0] + i - 1)] = b[i];
-	if (b[0] <= EM7180_REG_PARAM_REQ && b[0] + count - 1 > EM7180_REG_PARAM_REQ)
+	for (i = 1, reg = b[0]; i < count; i++, reg = emu_next(emu, reg)) {
+		emu->regs[reg] = b[i];
+		req |= reg == EM7180_REG_PARAM_REQ;
+		algo |= reg == EM7180_REG_ALGO_CTRL;
+	}
+	if (req)
 		emu_request_written(emu);
-	if (b[0] <= EM7180_REG_ALGO_CTRL && b[0] + count - 1 > EM7180_REG_ALGO_CTRL)
+	if (algo)
 		emu_algo_written(emu, old_algo);
 
 	return 0;
@@ -150,7 +166,8 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 		    void *val_buf, size_t val_size)
 {
 	struct em7180_emu *emu = context;
-	u8 reg = *(const u8 *)reg_buf;
+	u8 p, reg = *(const u8 *)reg_buf;
+	bool flags = false;
 	unsigned int i;
 
 	if (++emu->transactions == emu->nack_at)
@@ -167,11 +184,13 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 		else
 			emu->regs[EM7180_REG_SENTRAL_STATUS] |= EM7180_SENTRAL_STANDBY;
 	}
-	for (i = 0; i < val_size; i++)
-		((u8 *)val_buf)[i] = emu->regs[(u8)(reg + i)];
+	for (i = 0, p = reg; i < val_size; i++, p = emu_next(emu, p)) {
+		((u8 *)val_buf)[i] = emu->regs[p];
+		flags |= p == EM7180_REG_CAL_FLAGS;
+	}
 	emu_log(emu, false, reg, val_buf, val_size);
 	/* The update flags latch until read */
-	if (reg <= EM7180_REG_CAL_FLAGS && reg + val_size > EM7180_REG_CAL_FLAGS)
+	if (flags)
 		emu->regs[EM7180_REG_CAL_FLAGS] = 0;
 
 	return 0;
@@ -203,9 +222,6 @@ static int em7180_test_init(struct kunit *test)
 	t->data.dev = t->dev;
 	t->data.regmap = map;
 	mutex_init(&t->data.lock);
-	em7180_param_init(&t->data);
-	/* As probe leaves it: ParamAcknowledge read, and 0 */
-	t->data.ack_known = true;
 	test->priv = t;
 
 	return 0;
@@ -238,20 +254,14 @@ static void expect_xfer(struct kunit *test, const struct em7180_emu *emu,
 				      "transaction %u: %*ph", i, len, x->data);
 }
 
-/*
- * How every transfer must end, error or not: ParamRequest = 0, after a
- * clean transfer the stop's acknowledge, and bit 7 clear.
- */
+/* How every transfer must end, error or not: ParamRequest = 0, bit 7 clear */
 static void expect_ended(struct kunit *test, const struct em7180_emu *emu)
 {
 	static const u8 zero;
-	unsigned int stop;
 
 	KUNIT_ASSERT_GE(test, emu->n_log, 2U);
-	/* the polls of the stop's acknowledge, if any */
-	for (stop = emu->n_log - 2; stop && !emu->log[stop].write; stop--)
-		expect_xfer(test, emu, stop, false, EM7180_REG_PARAM_ACK, NULL, 1);
-	expect_xfer(test, emu, stop, true, EM7180_REG_PARAM_REQ, &zero, 1);
+	expect_xfer(test, emu, emu->n_log - 2, true, EM7180_REG_PARAM_REQ,
+		    &zero, 1);
 	expect_xfer(test, emu, emu->n_log - 1, true, EM7180_REG_ALGO_CTRL,
 		    &zero, 1);
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_PARAM_REQ], 0);
@@ -284,13 +294,16 @@ static void em7180_test_param_read_sequence(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, test_params_read(t, 5, 1, &val), 0);
 	KUNIT_EXPECT_EQ(test, val, 0x12345678U);
 
-	/* The request first, then bit 7, as the reference drivers do */
+	/*
+	 * The echo and the calibration registers, the request, then bit 7
+	 * as the reference drivers do, one poll with the value
+	 */
 	KUNIT_ASSERT_EQ(test, emu->n_log, 6U);
-	expect_xfer(test, emu, 0, true, EM7180_REG_PARAM_REQ, &req, 1);
-	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &start, 1);
-	/* the first poll reads on through the calibration registers */
-	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL,
+	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL,
 		    EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK);
+	expect_xfer(test, emu, 1, true, EM7180_REG_PARAM_REQ, &req, 1);
+	expect_xfer(test, emu, 2, true, EM7180_REG_ALGO_CTRL, &start, 1);
+	expect_xfer(test, emu, 3, false, EM7180_REG_PARAM_ACK, NULL, 5);
 	expect_ended(test, emu);
 }
 
@@ -306,15 +319,13 @@ static void em7180_test_param_write_sequence(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, test_params_write(t, 27, 1, &val), 0);
 	KUNIT_EXPECT_EQ(test, emu->params[27], 0xBCBBE447U);
 
+	/* a write polls the acknowledge byte alone */
 	KUNIT_ASSERT_EQ(test, emu->n_log, 6U);
-	expect_xfer(test, emu, 0, true, EM7180_REG_LOAD_PARAM, burst, 5);
-	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &start, 1);
-	/*
-	 * a write polls the acknowledge byte alone, but for the transfer's
-	 * first poll, which reads on through the calibration registers
-	 */
-	expect_xfer(test, emu, 2, false, EM7180_REG_PARAM_ACK, NULL,
+	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL,
 		    EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK);
+	expect_xfer(test, emu, 1, true, EM7180_REG_LOAD_PARAM, burst, 5);
+	expect_xfer(test, emu, 2, true, EM7180_REG_ALGO_CTRL, &start, 1);
+	expect_xfer(test, emu, 3, false, EM7180_REG_PARAM_ACK, NULL, 1);
 	expect_ended(test, emu);
 }
 
@@ -415,11 +426,11 @@ static void em7180_test_param_unknown_ack(struct kunit *test)
 	emu->ack_end = EMU_ACK_END_KEPT;
 	emu->ack_latency_us = 3000;
 	emu->regs[EM7180_REG_PARAM_ACK] = 28 | EM7180_PARAM_WRITE;
-	em7180_param_init(&t->data);
 
 	KUNIT_ASSERT_EQ(test, test_params_write(t, 28, 1, &val), 0);
 	KUNIT_EXPECT_EQ(test, emu->params[28], val);
-	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL, 1);
+	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL,
+		    EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK);
 	/* the read of parameter 29 that changes the echo */
 	expect_xfer(test, emu, 1, true, EM7180_REG_PARAM_REQ, NULL, 1);
 	KUNIT_EXPECT_EQ(test, emu->log[1].data[0], 29);
@@ -427,10 +438,9 @@ static void em7180_test_param_unknown_ack(struct kunit *test)
 }
 
 /*
- * With a firmware latency the driver must find it within the batch and
- * stay within 2 transactions per parameter + 4, batch after batch, plus
- * the one poll per batch that comes early when the wait is shortened to
- * follow a firmware that got faster.
+ * With a firmware latency the driver finds it in the first batch, at the
+ * cost of one early poll, and then stays at 2 transactions per parameter
+ * + 4, batch after batch.
  */
 static void em7180_test_param_latency(struct kunit *test)
 {
@@ -440,19 +450,20 @@ static void em7180_test_param_latency(struct kunit *test)
 	unsigned int round;
 
 	emu->ack_latency_us = 500;
-	for (round = 0; round < 2; round++) {
+	for (round = 0; round < 3; round++) {
 		emu->transactions = 0;
 		KUNIT_ASSERT_EQ(test, test_params_read(t, 1, EM7180_WS_NUM_PARAMS,
 						       vals), 0);
-		KUNIT_EXPECT_LE(test, emu->transactions,
-				2 * EM7180_WS_NUM_PARAMS + 5);
+		KUNIT_EXPECT_EQ_MSG(test, emu->transactions,
+				    2 * EM7180_WS_NUM_PARAMS + 4 + !round,
+				    "round %u", round);
 		emu->transactions = 0;
 		KUNIT_ASSERT_EQ(test, test_params_write(t, 1, EM7180_WS_NUM_PARAMS,
 							vals), 0);
-		KUNIT_EXPECT_LE(test, emu->transactions,
-				2 * EM7180_WS_NUM_PARAMS + 5);
+		KUNIT_EXPECT_EQ_MSG(test, emu->transactions,
+				    2 * EM7180_WS_NUM_PARAMS + 4, "round %u", round);
 	}
-	KUNIT_EXPECT_GE(test, t->data.ack_good_us, 1U);
+	KUNIT_EXPECT_GE(test, t->data.ack_wait_us, 500U);
 }
 
 static void em7180_test_param_slow_ack(struct kunit *test)
@@ -500,19 +511,13 @@ static void em7180_test_param_nack(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, clean, 10U);
 
 	for (n = 1; n <= clean; n++) {
-		/* As after the sweep's last transfer: the echo is known */
-		t->data.ack_known = true;
-		t->data.ack_stale = 0;
 		emu->regs[EM7180_REG_PARAM_ACK] = 0;
 		emu->transactions = 0;
 		emu->n_log = 0;
 		emu->nack_at = n;
 		ret = test_params_write(t, 27, 3, vals);
-		/*
-		 * A failed end is retried and a failed poll of the stop only
-		 * makes the echo unknown, so a NACK there is recovered
-		 */
-		if (n >= clean - 2)
+		/* A failed end is retried */
+		if (n >= clean - 1)
 			KUNIT_EXPECT_EQ_MSG(test, ret, 0, "NACK at %u", n);
 		else
 			KUNIT_EXPECT_EQ_MSG(test, ret, -EIO, "NACK at %u", n);
@@ -522,6 +527,81 @@ static void em7180_test_param_nack(struct kunit *test)
 		KUNIT_EXPECT_EQ(test, test_params_read(t, 27, 3, back), 0);
 		KUNIT_EXPECT_TRUE(test, !memcmp(back, vals, sizeof(vals)));
 	}
+}
+
+/*
+ * A register pointer that stops at 0x3A: the first read whose value
+ * bytes repeat the echo is checked, the driver switches to the reference
+ * hosts' order and reads the right values, and the calibration flags are
+ * not taken from the repeated byte.
+ */
+static void em7180_test_param_autoinc_read(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	unsigned int i;
+
+	emu->autoinc_stop = true;
+	emu->regs[EM7180_REG_PARAM_ACK] = EM7180_CAL_FLAG_MAG_UPDATE |
+					  EM7180_CAL_FLAG_GBIAS_UPDATE;
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		emu->params[i + 1] = 0x3F800000 + i;
+
+	for (i = 0; i < 2; i++) {
+		emu->transactions = 0;
+		KUNIT_ASSERT_EQ(test, test_params_read(t, 1, EM7180_WS_NUM_PARAMS,
+						       vals), 0);
+		KUNIT_EXPECT_TRUE(test, !memcmp(vals, &emu->params[1],
+						sizeof(vals)));
+		expect_ended(test, emu);
+	}
+	KUNIT_EXPECT_TRUE(test, t->data.param_single);
+	KUNIT_EXPECT_EQ(test, t->data.cal.flags, 0);
+	/* request, poll, value: one more per parameter, and the cal block */
+	KUNIT_EXPECT_EQ(test, emu->transactions, 3 * EM7180_WS_NUM_PARAMS + 5);
+}
+
+/*
+ * A pointer that stops at 0x63: the first burst write is never
+ * acknowledged, the transfer runs again one register at a time and the
+ * chip holds every value.
+ */
+static void em7180_test_param_autoinc_write(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 in[EM7180_WS_NUM_PARAMS];
+	unsigned int i;
+
+	emu->autoinc_stop = true;
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		in[i] = 0xBC000000 + i;
+
+	KUNIT_ASSERT_EQ(test, test_params_write(t, 1, EM7180_WS_NUM_PARAMS, in), 0);
+	KUNIT_EXPECT_TRUE(test, !memcmp(in, &emu->params[1], sizeof(in)));
+	KUNIT_EXPECT_TRUE(test, t->data.param_single);
+	expect_ended(test, emu);
+
+	emu->n_log = 0;
+	in[0] = 0x3F800000;
+	KUNIT_ASSERT_EQ(test, test_params_write(t, 1, 1, in), 0);
+	KUNIT_EXPECT_EQ(test, emu->params[1], in[0]);
+	expect_xfer(test, emu, 2, true, EM7180_REG_LOAD_PARAM, NULL, 4);
+	expect_xfer(test, emu, 3, true, EM7180_REG_PARAM_REQ, NULL, 1);
+}
+
+/* A chip that follows the burst: a value that repeats the echo is real */
+static void em7180_test_param_echo_value(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 val;
+
+	emu->params[3] = 0x03030303;
+	KUNIT_ASSERT_EQ(test, test_params_read(t, 3, 1, &val), 0);
+	KUNIT_EXPECT_EQ(test, val, 0x03030303U);
+	KUNIT_EXPECT_FALSE(test, t->data.param_single);
 }
 
 static void em7180_test_param_range(struct kunit *test)
@@ -773,9 +853,6 @@ static void em7180_test_warmstart_fuzz(struct kunit *test)
 	data->dev = t->dev;
 	data->regmap = t->data.regmap;
 	mutex_init(&data->lock);
-	/* No acknowledge latency: the learned wait soon drops to nothing */
-	em7180_param_init(data);
-	data->ack_known = true;
 
 	prandom_seed_state(&rnd, WS_FUZZ_SEED);
 	for (round = 0; round < WS_FUZZ_ROUNDS; round++) {
@@ -1199,6 +1276,9 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_slow_ack),
 	KUNIT_CASE(em7180_test_param_timeout),
 	KUNIT_CASE(em7180_test_param_nack),
+	KUNIT_CASE(em7180_test_param_autoinc_read),
+	KUNIT_CASE(em7180_test_param_autoinc_write),
+	KUNIT_CASE(em7180_test_param_echo_value),
 	KUNIT_CASE(em7180_test_param_range),
 	KUNIT_CASE(em7180_test_pm_power_loss),
 	KUNIT_CASE(em7180_test_pm_power_loss_nack),

@@ -48,6 +48,60 @@
 
 #include "em7180.h"
 #include "em7180_compat.h"
+#include "em7180_core.h"
+
+#define EM7180_REG_QTIME		0x10	/* u16 LE, 1/32768 s */
+#define EM7180_REG_MX			0x12
+#define EM7180_REG_MTIME		0x18
+#define EM7180_REG_AX			0x1A
+#define EM7180_REG_ATIME		0x20
+#define EM7180_REG_GX			0x22
+#define EM7180_REG_EVENT_STATUS		0x35	/* clear on read */
+#define EM7180_REG_ACTUAL_MAG_RATE	0x45
+#define EM7180_REG_ACTUAL_ACCEL_RATE	0x46
+#define EM7180_REG_ACTUAL_GYRO_RATE	0x47
+#define EM7180_REG_ERROR		0x50
+#define EM7180_REG_PRODUCT_ID		0x90
+#define EM7180_REG_RUN_STATUS		0x92
+#define EM7180_REG_UPLOAD_ADDR		0x94
+#define EM7180_REG_UPLOAD_DATA		0x96
+#define EM7180_REG_CRC_HOST		0x97
+#define EM7180_REG_RESET_REQ		0x9B
+#define EM7180_REG_PASSTHRU_STATUS	0x9E
+#define EM7180_REG_SCL_LOW_CYCLES	0x9F
+#define EM7180_REG_PASSTHRU_CTRL	0xA0
+#define EM7180_REG_MAX			EM7180_REG_PASSTHRU_CTRL
+
+#define EM7180_PRODUCT_ID		0x80
+#define EM7180_REVISION_ID		0x02
+
+#define EM7180_EVENT_CPU_RESET		BIT(0)
+#define EM7180_EVENT_QUAT		BIT(2)
+#define EM7180_EVENT_MAG		BIT(3)
+#define EM7180_EVENT_ACCEL		BIT(4)
+#define EM7180_EVENT_GYRO		BIT(5)
+#define EM7180_EVENT_DATA		GENMASK(5, 2)
+/* Always enabled: a reset of the chip's own, and firmware errors */
+#define EM7180_EVENT_ALWAYS		(EM7180_EVENT_CPU_RESET | EM7180_EVENT_ERROR)
+
+#define EM7180_SENTRAL_UPLOAD_ERR	BIT(2)
+#define EM7180_SENTRAL_NO_EEPROM	BIT(4)
+
+#define EM7180_ALGO_STATUS_HALTED	BIT(0)
+
+#define EM7180_RESET_REQ_RESET		BIT(0)
+
+#define EM7180_WS_FIRST_PARAM		1
+#define EM7180_ACCEL_OFFSET_PARAM	27
+
+/*
+ * Quaternion components in Q14, stored as s16 x 4 as bno055 does. The IIO
+ * scale is printed with nine decimals, so 2^-14 = 0.000061035 is exact to
+ * 3 ppm where 2^-30 would print as 0; and a scan element larger than the
+ * 8-byte timestamp would make the kernel pad scans to 16 bytes, which
+ * libiio 0.24 does not expect.
+ */
+#define EM7180_QUAT_FRAC_BITS		14
 
 /* EM's generic host driver (em718x_core.c) allows 4 s for the upload */
 #define EM7180_UPLOAD_POLL_US		10000
@@ -216,6 +270,25 @@ static const struct iio_chan_spec em7180_channels[] = {
 	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, Y, EM7180_REG_GX + 2, EM7180_SCAN_ANGLVEL_Y, 0),
 	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, Z, EM7180_REG_GX + 4, EM7180_SCAN_ANGLVEL_Z, 0),
 	IIO_CHAN_SOFT_TIMESTAMP(EM7180_SCAN_TIMESTAMP),
+};
+
+/*
+ * Every set of whole sensors, fewest first: the interrupt that paces a
+ * scan is chosen by the sensors in the active mask (em7180_pace_event()),
+ * and the core's demux hands each buffer the axes it enabled.
+ */
+#define EM7180_Q	BIT(EM7180_SCAN_QUAT)
+#define EM7180_M	GENMASK(EM7180_SCAN_MAGN_Z, EM7180_SCAN_MAGN_X)
+#define EM7180_A	GENMASK(EM7180_SCAN_ACCEL_Z, EM7180_SCAN_ACCEL_X)
+#define EM7180_G	GENMASK(EM7180_SCAN_ANGLVEL_Z, EM7180_SCAN_ANGLVEL_X)
+static const unsigned long em7180_scan_masks[] = {
+	EM7180_Q, EM7180_M, EM7180_A, EM7180_G,
+	EM7180_Q | EM7180_M, EM7180_Q | EM7180_A, EM7180_Q | EM7180_G,
+	EM7180_M | EM7180_A, EM7180_M | EM7180_G, EM7180_A | EM7180_G,
+	EM7180_Q | EM7180_M | EM7180_A, EM7180_Q | EM7180_M | EM7180_G,
+	EM7180_Q | EM7180_A | EM7180_G, EM7180_M | EM7180_A | EM7180_G,
+	EM7180_Q | EM7180_M | EM7180_A | EM7180_G,
+	0
 };
 
 /* One quaternion component, float32 from the chip, as Q14 in an s16 */
@@ -976,24 +1049,19 @@ static void em7180_scan_push(struct iio_dev *indio_dev,
 	unsigned int bit, start = 0, pos = 0;
 	const u8 *src;
 	int i;
-	s16 q;
 
 	em7180_scan_span(mask, &start);
 	for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP) {
 		src = &data->burst[em7180_channels[bit].address - start];
 		if (bit != EM7180_SCAN_QUAT) {
-			memcpy(&data->scan[pos], src, 2);
-			pos += 2;
+			memcpy(&data->scan.chans[pos++], src, 2);
 			continue;
 		}
-		for (i = 0; i < 4; i++) {
-			q = em7180_quat_component(&src[4 * i]);
-			memcpy(&data->scan[pos], &q, sizeof(q));
-			pos += sizeof(q);
-		}
+		for (i = 0; i < 4; i++)
+			data->scan.chans[pos++] = em7180_quat_component(&src[4 * i]);
 	}
 
-	iio_push_to_buffers_with_ts(indio_dev, data->scan, sizeof(data->scan),
+	iio_push_to_buffers_with_ts(indio_dev, &data->scan, sizeof(data->scan),
 				    ts);
 }
 
@@ -1535,7 +1603,6 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 	init_waitqueue_head(&data->scan_wq);
-	em7180_param_init(data);
 	dev_set_drvdata(dev, indio_dev);
 
 	ret = devm_regulator_bulk_get_enable(dev, ARRAY_SIZE(regulators),
@@ -1584,6 +1651,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	indio_dev->info = &em7180_info;
 	indio_dev->channels = em7180_channels;
 	indio_dev->num_channels = ARRAY_SIZE(em7180_channels);
+	indio_dev->available_scan_masks = em7180_scan_masks;
 	indio_dev->modes = INDIO_DIRECT_MODE;
 
 	if (data->irq) {
@@ -1692,7 +1760,6 @@ static int em7180_chip_restore(struct em7180_data *data, bool *lost,
 		*ram = data->ram_version;
 	}
 	*lost = true;
-	data->ack_known = false;
 	data->cal.valid = false;
 
 	ret = em7180_wait_firmware(data, &status);

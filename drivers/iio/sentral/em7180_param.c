@@ -17,17 +17,17 @@
 #include <linux/dev_printk.h>
 #include <linux/errno.h>
 #include <linux/ktime.h>
-#include <linux/limits.h>
 #include <linux/lockdep.h>
 #include <linux/math.h>
 #include <linux/math64.h>
 #include <linux/minmax.h>
 #include <linux/regmap.h>
+#include <linux/string.h>
 #include <linux/types.h>
 
 #include <kunit/visibility.h>
 
-#include "em7180.h"
+#include "em7180_core.h"
 #include "em7180_compat.h"
 
 #define EM7180_F32_SIGN			BIT(31)
@@ -37,15 +37,17 @@
 #define EM7180_F32_FRAC_BITS		23
 
 /*
- * The firmware acknowledge latency is not documented; drivers in the wild
- * allow up to 1 s (EM generic host driver). The first guess is refined
- * while a batch runs.
+ * No document gives the firmware's acknowledge latency; EM's host driver
+ * polls every 10 ms for up to 1 s.
  */
-#define EM7180_ACK_TIMEOUT_US		1000000
-#define EM7180_ACK_WAIT_INIT_US		1000
+#define EM7180_ACK_TIMEOUT_US		1000000U
+#define EM7180_ACK_WAIT_INIT_US		1000U
 #define EM7180_ACK_WAIT_MAX_US		100000U
-#define EM7180_ACK_STEP_MIN_US		50
-#define EM7180_ACK_STEP_MAX_US		10000
+#define EM7180_ACK_STEP_MIN_US		50U
+#define EM7180_ACK_STEP_MAX_US		10000U
+
+/* ParamAcknowledge through the calibration score: 0x3A..0x4E */
+#define EM7180_ACK_CAL_LEN	(EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK)
 
 /* 1 LSB of accelerometer offset = 0.000488 g = 61 / 125000 g exactly */
 #define EM7180_G_PER_LSB_NUM		61
@@ -191,164 +193,150 @@ s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits)
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
 
-/**
- * em7180_param_init() - set the initial parameter acknowledge estimate
- * @data: driver state
- *
- * Also forgets what ParamAcknowledge holds: the next transfer reads it
- * before its first request.
- */
-void em7180_param_init(struct em7180_data *data)
-{
-	data->ack_wait_us = EM7180_ACK_WAIT_INIT_US;
-	data->ack_good_us = 0;
-	data->ack_known = false;
-	data->stop_unacked = false;
-}
-EXPORT_SYMBOL_IF_KUNIT(em7180_param_init);
-
-static void em7180_param_sleep(unsigned int us)
-{
-	if (us >= 10)
-		usleep_range(us, us + us / 16 + 5);
-	else if (us)
-		udelay(us);
-}
-
-/**
- * struct em7180_batch - acknowledge timing learned within one transfer
- * @missed: a poll of this batch came before the acknowledge
- * @best_us: shortest time after a request at which an acknowledge was seen
- * @cal_read: a poll of this batch read the calibration registers
- */
-struct em7180_batch {
-	bool missed;
-	unsigned int best_us;
-	bool cal_read;
-};
-
-/* ParamAcknowledge through the calibration score: 0x3A..0x4E */
-#define EM7180_ACK_CAL_LEN	(EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK)
-
 /*
- * Poll ParamAcknowledge. For a read (val not NULL) one burst also returns
- * SavedParam; a write needs the acknowledge byte only, which saves 4 of
- * the 6 bytes of each poll (36 bit times at 400 kHz per parameter).
+ * Poll ParamAcknowledge until it echoes @req, @len bytes from 0x3A: 5 for
+ * a read in one burst, which returns SavedParam too, else 1.
  *
- * The first poll comes after the wait that sufficed for the previous
- * parameter. While no poll of the batch has come too early, that wait is
- * shortened by 1/8 after each success, so the driver converges on the
- * firmware's latency instead of sleeping a fixed amount. After one early
- * poll it polls again once the shortest time that sufficed in this batch
- * has passed, and keeps that wait for the rest of the batch: a converged
- * batch costs one early poll in all. Only times that actually passed count
- * as sufficient (a sleep may overrun, so a poll planned too early can still
- * succeed), and taking the shortest keeps one overrun from slowing down
- * the rest of the batch.
- *
- * The first poll of a transfer reads on through the calibration registers
- * (em7180_cal_update()): the algorithm is paused, so every update flag the
- * chip latched before the transfer is taken in, in the same transaction.
+ * The first poll comes after data->ack_wait_us; one too early is followed
+ * by another after a quarter of the time spent so far. The wait shrinks by
+ * 1/8 after each poll in time until one is early, and from then on is the
+ * time at which the last early poll found the acknowledge: a steady
+ * firmware costs one poll per parameter, a slower one raises the wait.
  */
-static int em7180_param_ack(struct em7180_data *data, u8 req, u32 *val,
-			    struct em7180_batch *batch)
+static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
+			    size_t len)
 {
+	unsigned int wait = data->ack_wait_us ?: EM7180_ACK_WAIT_INIT_US;
 	ktime_t start = ktime_get();
-	unsigned int wait = data->ack_wait_us;
-	unsigned int waited;
-	bool first = true;
-	u8 ack[EM7180_ACK_CAL_LEN];
-	size_t len;
+	unsigned int took;
+	bool early = false;
 	int ret;
 
 	for (;;) {
-		em7180_param_sleep(wait);
-		waited = min_t(s64, ktime_us_delta(ktime_get(), start),
-			       EM7180_ACK_TIMEOUT_US);
-		if (batch && !batch->cal_read)
-			len = EM7180_ACK_CAL_LEN;
-		else
-			len = val ? 5 : 1;
-		ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, ack,
+		usleep_range(wait, wait + wait / 16 + 5);
+		took = min_t(s64, ktime_us_delta(ktime_get(), start),
+			     EM7180_ACK_TIMEOUT_US);
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, buf,
 				       len);
 		if (ret)
 			return ret;
-		if (len == EM7180_ACK_CAL_LEN) {
-			em7180_cal_update(&data->cal, &ack[EM7180_REG_CAL_STATUS -
-							   EM7180_REG_PARAM_ACK]);
-			batch->cal_read = true;
-		}
-		if (ack[0] == req)
+		if (buf[0] == req)
 			break;
-		if (waited >= EM7180_ACK_TIMEOUT_US)
+		if (took >= EM7180_ACK_TIMEOUT_US)
 			return -ETIMEDOUT;
-
-		first = false;
-		if (data->ack_good_us > waited)
-			wait = data->ack_good_us - waited;
-		else
-			wait = clamp_t(unsigned int, waited / 4,
-				       EM7180_ACK_STEP_MIN_US,
-				       EM7180_ACK_STEP_MAX_US);
+		early = true;
+		wait = clamp(took / 4, EM7180_ACK_STEP_MIN_US,
+			     EM7180_ACK_STEP_MAX_US);
 	}
 
-	if (val)
-		*val = get_unaligned_le32(&ack[1]);
-	/* The stop's latency is not a parameter's: learn nothing from it */
-	if (!batch)
-		return 0;
-
-	batch->best_us = min3(batch->best_us, waited, EM7180_ACK_WAIT_MAX_US);
-	data->ack_good_us = batch->best_us;
-	if (!first) {
-		batch->missed = true;
-		data->ack_wait_us = batch->best_us;
-	} else if (!batch->missed) {
-		data->ack_wait_us -= data->ack_wait_us / 8;
+	if (early) {
+		data->ack_wait_us = min(took, EM7180_ACK_WAIT_MAX_US);
+		data->ack_settled = true;
+	} else if (!data->ack_settled) {
+		data->ack_wait_us = wait - wait / 8;
 	}
-
 	return 0;
 }
 
 /*
- * End the procedure and leave the algorithm running. Written with explicit
- * values, never read-modify-write, so a retry after a failed write still
- * reaches the chip.
- *
- * After a clean transfer the stop is waited for: a firmware that serves
- * ParamRequest = 0 like a request echoes 0 once it is done, and a host
- * that clears bit 7 before then leaves the last request's echo in 0x3A.
- * A firmware that never echoes the stop is waited for once; after that
- * 0x3A is taken to keep the last request's echo. Either way the driver
- * knows which stale echo the next transfer may meet.
+ * One request and its acknowledge. No reference host crosses 0x63->0x64
+ * or 0x3A->0x3B in one transfer; the driver does (the value and the
+ * request in one write, the echo and the value in one read) until the
+ * chip shows it does not follow, then writes and reads as those hosts do
+ * (data->param_single). A read whose value bytes all equal the echo is
+ * what a register pointer that stops at 0x3A returns, and is checked.
  */
-static int em7180_param_end(struct em7180_data *data, bool clean, u8 last)
+static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
+				u32 *out, bool start)
 {
-	int ret, ret2, err;
+	u32 echo = req * 0x01010101U;
+	bool single = data->param_single;
+	u8 buf[5];
+	int ret;
+
+	if (req & EM7180_PARAM_WRITE) {
+		put_unaligned_le32(in, buf);
+		buf[4] = req;
+		ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM, buf,
+					single ? 4 : 5);
+		if (!ret && single)
+			ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, req);
+	} else {
+		ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, req);
+	}
+	/* Bit 7 after the first request: never start on one left behind */
+	if (!ret && start)
+		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
+				   EM7180_ALGO_CTRL_PARAM_XFER);
+	if (!ret)
+		ret = em7180_param_ack(data, req, buf, out && !single ? 5 : 1);
+	if (ret || !out)
+		return ret;
+
+	if (!single) {
+		*out = get_unaligned_le32(&buf[1]);
+		if (*out != echo)
+			return 0;
+	}
+	ret = regmap_bulk_read(data->regmap, EM7180_REG_SAVED_PARAM, buf, 4);
+	if (ret)
+		return ret;
+	*out = get_unaligned_le32(buf);
+	if (!single && *out != echo) {
+		dev_info(data->dev,
+			 "register pointer stops at ParamAcknowledge: reading parameters one register at a time\n");
+		data->param_single = true;
+	}
+	return 0;
+}
+
+/*
+ * ParamAcknowledge keeps the echo of the last request served, through the
+ * end of a transfer on some firmware, and an echo equal to the first
+ * request would pass for its acknowledge: a transfer reads it first, and
+ * reads another parameter before a first request it equals. The same read
+ * takes in the calibration flags the chip latched, which belong to the
+ * state the transfer saves or replaces (em7180_cal_saved()). A pointer
+ * that stops at 0x3A returns one byte throughout: no flags then.
+ */
+static int em7180_param_begin(struct em7180_data *data, u8 first_req,
+			      bool *started)
+{
+	u8 regs[EM7180_ACK_CAL_LEN];
+	u8 *cal = &regs[EM7180_REG_CAL_STATUS - EM7180_REG_PARAM_ACK];
+	bool single = data->param_single;
+	u32 dummy;
+	int ret;
+
+	ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, regs,
+			       single ? 1 : sizeof(regs));
+	if (!ret && single)
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, cal,
+				       EM7180_CAL_BLOCK_LEN);
+	if (ret)
+		return ret;
+	if (single || memchr_inv(regs, regs[0], sizeof(regs)))
+		em7180_cal_update(&data->cal, cal);
+	if (regs[0] != first_req)
+		return 0;
+
+	*started = true;
+	return em7180_param_request(data,
+				    (first_req & ~EM7180_PARAM_WRITE) %
+				    EM7180_PARAM_MAX + 1, 0, &dummy, true);
+}
+
+/*
+ * End the transfer and let the algorithm run, on every path: explicit
+ * values, each write retried once.
+ */
+static int em7180_param_end(struct em7180_data *data)
+{
+	int ret, ret2;
 
 	ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
 	if (ret)
 		ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
-
-	data->ack_known = false;
-	if (!ret && clean && !data->stop_unacked) {
-		/* After a bus error here 0x3A is unknown, and read next time */
-		err = em7180_param_ack(data, 0, NULL, NULL);
-		if (!err) {
-			data->ack_stale = 0;
-			data->ack_known = true;
-		} else if (err == -ETIMEDOUT) {
-			dev_info(data->dev,
-				 "the firmware does not acknowledge the end of a parameter transfer\n");
-			data->stop_unacked = true;
-		}
-	}
-	if (!ret && clean && data->stop_unacked) {
-		/* What it echoed last; or 0, which no request equals */
-		data->ack_stale = last;
-		data->ack_known = true;
-	}
-
 	/*
 	 * A data-ready interrupt from before this point may find newer data
 	 * than it announced once the algorithm runs again: its scan is not
@@ -362,94 +350,57 @@ static int em7180_param_end(struct em7180_data *data, bool clean, u8 last)
 	return ret ?: ret2;
 }
 
-/*
- * One request: the value and ParamRequest in one burst for a write, the
- * request alone for a read, then its acknowledge. As in the reference
- * drivers, bit 7 is set after the first request: the procedure never
- * starts on a request somebody else left in ParamRequest.
- */
-static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
-				u32 *out, bool *started,
-				struct em7180_batch *batch)
+static int em7180_param_batch(struct em7180_data *data, unsigned int first,
+			      unsigned int count, const u32 *in, u32 *out,
+			      unsigned int *acked)
 {
-	u8 buf[5];
-	int ret;
-
-	if (req & EM7180_PARAM_WRITE) {
-		put_unaligned_le32(in, buf);
-		buf[4] = req;
-		ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM, buf,
-					sizeof(buf));
-	} else {
-		ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, req);
-	}
-	if (!ret && !*started) {
-		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
-				   EM7180_ALGO_CTRL_PARAM_XFER);
-		*started = true;
-	}
-	if (ret)
-		return ret;
-
-	return em7180_param_ack(data, req, out, batch);
-}
-
-/*
- * An acknowledge equal to the request only proves the request was served
- * if 0x3A held something else before: a firmware may keep its last echo
- * from an earlier transfer (the reference only says it "echoes the
- * ParamRequest value once served"). When what it holds is unknown it is
- * read; when it equals the first request, a read of another parameter
- * changes it first.
- */
-static int em7180_param_unstale(struct em7180_data *data, u8 first_req,
-				bool *started, struct em7180_batch *batch)
-{
-	unsigned int n = first_req & ~EM7180_PARAM_WRITE;
-	unsigned int ack;
-	u32 dummy;
-	int ret;
-
-	if (!data->ack_known) {
-		ret = regmap_read(data->regmap, EM7180_REG_PARAM_ACK, &ack);
-		if (ret)
-			return ret;
-		data->ack_stale = ack;
-	}
-	if (data->ack_stale != first_req)
-		return 0;
-
-	return em7180_param_request(data, n % EM7180_PARAM_MAX + 1, 0, &dummy,
-				    started, batch);
-}
-
-static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
-			     unsigned int count, const u32 *in, u32 *out)
-{
-	struct em7180_batch batch = { .best_us = UINT_MAX };
 	u8 write = in ? EM7180_PARAM_WRITE : 0;
 	bool started = false;
 	unsigned int i;
 	int ret, end;
-	u8 req = 0;
+
+	ret = em7180_param_begin(data, first | write, &started);
+	for (i = 0; !ret && i < count; i++) {
+		ret = em7180_param_request(data, (first + i) | write,
+					   in ? in[i] : 0, out ? &out[i] : NULL,
+					   !started);
+		started = true;
+	}
+	*acked = i - !!ret;
+	end = em7180_param_end(data);
+
+	return ret ?: end;
+}
+
+/*
+ * A first write in one burst that is never acknowledged may be a chip
+ * whose pointer stops at 0x63: the request then never reached
+ * ParamRequest. The transfer runs again as the reference hosts write, and
+ * that order is kept if it works.
+ */
+static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
+			     unsigned int count, const u32 *in, u32 *out)
+{
+	unsigned int acked;
+	int ret;
 
 	lockdep_assert_held(&data->lock);
 
 	if (!count || !first || first + count - 1 > EM7180_PARAM_MAX)
 		return -EINVAL;
 
-	ret = em7180_param_unstale(data, first | write, &started, &batch);
+	ret = em7180_param_batch(data, first, count, in, out, &acked);
+	if (ret != -ETIMEDOUT || !in || acked || data->param_single)
+		return ret;
 
-	for (i = 0; !ret && i < count; i++) {
-		req = (first + i) | write;
-		ret = em7180_param_request(data, req, in ? in[i] : 0,
-					   out ? &out[i] : NULL, &started,
-					   &batch);
-	}
-
-	end = em7180_param_end(data, !ret, req);
-
-	return ret ?: end;
+	data->param_single = true;
+	ret = em7180_param_batch(data, first, count, in, out, &acked);
+	if (ret)
+		data->param_single = false;
+	else
+		dev_info(data->dev,
+			 "parameter writes in one burst are not acknowledged: writing one register at a time\n");
+	return ret;
 }
 
 /**
@@ -459,10 +410,10 @@ static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
  * @count: number of parameters
  * @vals: where to store the raw 32-bit values
  *
- * Costs one ParamRequest write and normally one acknowledge poll per
- * parameter, one transaction to start and three to end (the stop, its
- * acknowledge, bit 7 clear). The transfer is ended and the algorithm left
- * running on every path.
+ * Costs one request and normally one acknowledge poll per parameter, two
+ * transactions to start and two to end (2 * @count + 4); a chip that needs
+ * the reference hosts' order costs one more per parameter. The transfer is
+ * ended and the algorithm left running on every path.
  *
  * Return: 0, -EINVAL for a bad range, -ETIMEDOUT when a parameter is not
  * acknowledged within 1 s, or the bus error.
@@ -481,10 +432,8 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_params_read);
  * @count: number of parameters
  * @vals: raw 32-bit values to write
  *
- * Each parameter is one 5-byte burst (LoadParamByte0..3 and ParamRequest)
- * followed by normally one acknowledge poll, which cannot be a stale echo
- * of an earlier transfer. The transfer is ended and the algorithm left
- * running on every path.
+ * Costs as em7180_params_read(). The transfer is ended and the algorithm
+ * left running on every path.
  *
  * Return: 0, -EINVAL for a bad range, -ETIMEDOUT when a parameter is not
  * acknowledged within 1 s, or the bus error.

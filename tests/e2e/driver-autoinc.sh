@@ -1,0 +1,68 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-only
+#
+# A chip whose register pointer stops at ParamAcknowledge (0x3A) and
+# LoadParamByte3 (0x63) within one transfer (simulator knob autoinc_stop;
+# no reference host crosses them, so silicon may not): calibration_data
+# reads return what the chip holds, not the acknowledge byte repeated; a
+# write reaches the chip; the driver says once that it moved to one
+# register per transaction, and keeps that order.
+. "$SENTRAL_ROOT/tests/lib/tap.sh"
+. "$SENTRAL_ROOT/tests/lib/em7180.sh"
+
+TMP=$(mktemp -d)
+knob gbias_period_ms 3600000
+knob motion 0
+DEV=$(em7180_dir)
+ok "an em7180 IIO device is present" test -n "$DEV"
+knob autoinc_stop 1
+
+ok "calibration_data read" dd if="$DEV/calibration_data" of="$TMP/a.bin" \
+	bs=140 count=1 status=none
+is "the read returns the chip's parameters" \
+	"$(blob_words <"$TMP/a.bin")" "$(sim_ws_params)"
+like "the switch is logged" "$(dmesg)" \
+	"reading parameters one register at a time"
+
+# The same blob with parameter 33 (a gyro bias) set to 0.1f
+{
+	head -c 128 "$TMP/a.bin"
+	printf '\xcd\xcc\xcc\x3d'
+	tail -c 8 "$TMP/a.bin"
+} >"$TMP/b.bin"
+ok "calibration_data write" dd if="$TMP/b.bin" of="$DEV/calibration_data" \
+	bs=140 status=none
+is "the chip holds the written parameters" \
+	"$(sim_ws_params)" "$(blob_words <"$TMP/b.bin")"
+is "the switch is logged once" \
+	"$(dmesg | grep -c 'one register at a time')" 1
+
+knob stats 0
+ok "calibration_data read again" dd if="$DEV/calibration_data" \
+	of="$TMP/c.bin" bs=140 count=1 status=none
+is "it returns what was written" "$(blob_words <"$TMP/c.bin")" \
+	"$(blob_words <"$TMP/b.bin")"
+# Request, acknowledge, value per parameter; the echo, the calibration
+# registers and bit 7 to start; ParamRequest and bit 7 to end
+is "one register per transaction: 3 per parameter + 5" \
+	"$(dbg_get stats transactions)" $((3 * 35 + 5))
+
+# A new binding finds out at probe, where it reads the accelerometer
+# offsets, before any write (a write in one burst would wait 1 s for an
+# acknowledge that never comes: the request byte lands on 0x63)
+CLIENT=$(basename "$(readlink -f "$DEV/..")")
+echo "$CLIENT" >/sys/bus/i2c/drivers/em7180/unbind
+echo "$CLIENT" >/sys/bus/i2c/drivers/em7180/bind
+DEV=$(em7180_dir)
+ok "bound again" test -n "$DEV"
+is "the switch is logged once per binding" \
+	"$(dmesg | grep -c 'one register at a time')" 2
+knob stats 0
+ok "calibration_data write" dd if="$TMP/a.bin" of="$DEV/calibration_data" \
+	bs=140 status=none
+is "the chip holds the written parameters" \
+	"$(sim_ws_params)" "$(blob_words <"$TMP/a.bin")"
+# A timed-out burst polls for 1 s before the retry
+t=$(dbg_get stats transactions)
+ok "no burst waited for on the way ($t transactions)" [ "$t" -le $((3 * 35 + 6)) ]
+done_testing
