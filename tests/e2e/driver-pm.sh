@@ -90,5 +90,43 @@ ok "a system sleep while capturing" system_sleep
 wait "$pid"
 is "300 scans across the sleep" "$(stat -c %s "$TMP/cap.bin")" $((300 * 16))
 
+# One NACK anywhere in a sleep, transaction 1, 2, ... of the suspend and
+# the resume: the system sleeps and wakes (a chip that cannot confirm its
+# standby is no reason to keep the system awake), and the algorithm runs.
+echo devices >/sys/power/pm_test
+echo 0 >/sys/module/suspend/parameters/pm_test_delay
+knob stats 0
+sh -c "echo freeze >/sys/power/state"
+clean=$(dbg_get stats transactions)
+echo "# a sleep: $clean transactions"
+failed=
+for n in $(seq 1 "$clean"); do
+	knob nack_at "$n"
+	if ! sh -c "echo freeze >/sys/power/state" 2>/dev/null || ! chip_idle; then
+		failed="$failed $n"
+	fi
+	knob nack_at 0
+done
+is "one NACK at each of the $clean transactions: every sleep done, chip running" \
+	"$failed" ""
+
+# Resume as soon as the devices are suspended (no delay) after a power loss
+# in sleep, with a chip that NACKs for a while after its power-on: resume
+# waits for it as probe does, and restores it.
+# (first a power loss that brings the driver back to the firmware it had)
+knob standby_power_loss 1
+ok "a system sleep with a power loss, back to the first firmware" system_sleep
+echo 0 >/sys/module/suspend/parameters/pm_test_delay
+echo -47 >"$DEV/in_accel_x_calibbias"
+knob nack_after_reset_ms 100
+knob standby_power_loss 1
+ok "a system sleep with a power loss, the chip NACKing 100 ms after" \
+	sh -c "echo devices >/sys/power/pm_test && echo freeze >/sys/power/state"
+knob nack_after_reset_ms 0
+ok "the algorithm runs after it" chip_idle
+is "the offset is back" "$(dbg_get params 27)" 0xbcbbe447
+
+echo 0 >"$DEV/in_accel_x_calibbias"
+
 rm -rf "$TMP"
 done_testing

@@ -545,6 +545,18 @@ static int int_stuck_store(struct sentral_sim *sim, char *buf, ktime_t now)
 	return 0;
 }
 
+/*
+ * INT rises with no event pending, as another device's interrupt on a
+ * shared line looks to this chip's host; low again when EventStatus is read
+ */
+static int int_spurious_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	if (strcmp(buf, "1"))
+		return -EINVAL;
+	sim->int_latched = true;
+	return 0;
+}
+
 /* A reset of the chip's own: INT rises for CPUReset unless reset_int 0 */
 static int chip_reset_store(struct sentral_sim *sim, char *buf, ktime_t now)
 {
@@ -713,6 +725,7 @@ static const struct sim_knob sim_knobs[] = {
 	{ "nack_after_reset_ms", 0600, nack_after_reset_show,
 	  nack_after_reset_store },
 	{ "int_stuck", 0200, NULL, int_stuck_store },
+	{ "int_spurious", 0200, NULL, int_spurious_store },
 	{ "chip_reset", 0200, NULL, chip_reset_store },
 	{ "power_cycle", 0200, NULL, power_cycle_store },
 	{ "stats", 0600, stats_show, stats_store },

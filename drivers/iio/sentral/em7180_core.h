@@ -121,6 +121,7 @@ struct iio_trigger;
  * @accel_offset_valid: @accel_offset holds what the chip has
  * @accel_offset: parameters 27..29, the accelerometer offsets in float g
  * @pace_event: the EventStatus bit whose interrupt paces scans, 0 when off
+ * @last_error: SensorStatus << 8 | ErrorRegister last reported
  * @orientation: mount matrix from firmware
  * @timestamp: time of the last data-ready interrupt, written by the hard handler
  * @scan_ts: time of the interrupt of the scan being captured
@@ -157,6 +158,7 @@ struct em7180_data {
 	bool accel_offset_valid;
 	u32 accel_offset[3];
 	unsigned int pace_event;
+	unsigned int last_error;
 	struct iio_mount_matrix orientation;
 	s64 timestamp;
 	s64 scan_ts;

@@ -41,6 +41,8 @@ static struct i2c_driver em7180_i2c_driver = {
 		.name = "em7180",
 		.of_match_table = em7180_of_match,
 		.pm = pm_sleep_ptr(&em7180_pm_ops),
+		/* Probe may wait seconds for the firmware upload */
+		.probe_type = PROBE_PREFER_ASYNCHRONOUS,
 	},
 	.EM7180_I2C_PROBE_MEMBER = em7180_i2c_probe,
 	.id_table = em7180_i2c_id,

@@ -60,6 +60,7 @@
 #define EM7180_REG_ACTUAL_MAG_RATE	0x45
 #define EM7180_REG_ACTUAL_ACCEL_RATE	0x46
 #define EM7180_REG_ACTUAL_GYRO_RATE	0x47
+#define EM7180_REG_SENSOR_STATUS	0x36
 #define EM7180_REG_ERROR		0x50
 #define EM7180_REG_PRODUCT_ID		0x90
 #define EM7180_REG_RUN_STATUS		0x92
@@ -1134,6 +1135,53 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
 
 static int em7180_chip_recover(struct em7180_data *data);
 
+/* ErrorRegister values that the reference hosts decode */
+static const char *em7180_error_name(unsigned int err)
+{
+	switch (err) {
+	case 0x11: return "magnetometer rate failure";
+	case 0x12: return "accelerometer rate failure";
+	case 0x14: return "gyroscope rate failure";
+	case 0x21: return "magnetometer initialization failed";
+	case 0x22: return "accelerometer initialization failed";
+	case 0x24: return "gyroscope initialization failed";
+	case 0x30: return "math error";
+	case 0x80: return "invalid sample rate";
+	default: return "internal error";
+	}
+}
+
+/*
+ * An Error event: ErrorRegister and SensorStatus (sensor NACK and ID
+ * errors), said once for each new pair, as a dead sensor would otherwise
+ * fill the log at every interrupt.
+ */
+static void em7180_report_error(struct em7180_data *data)
+{
+	unsigned int err, sensors;
+	int ret;
+
+	lockdep_assert_held(&data->lock);
+
+	ret = regmap_read(data->regmap, EM7180_REG_ERROR, &err);
+	if (!ret)
+		ret = regmap_read(data->regmap, EM7180_REG_SENSOR_STATUS,
+				  &sensors);
+	if (ret) {
+		dev_err_ratelimited(data->dev,
+				    "chip error, error registers unreadable: %d\n",
+				    ret);
+		return;
+	}
+	if (data->last_error == (sensors << 8 | err))
+		return;
+	data->last_error = sensors << 8 | err;
+	if (err || sensors)
+		dev_err(data->dev,
+			"chip error 0x%02x (%s), sensor status 0x%02x\n", err,
+			err ? em7180_error_name(err) : "none", sensors);
+}
+
 /*
  * Reading EventStatus clears it and releases the INT line. The line is a
  * level that only a successful read lowers: on an edge-triggered interrupt
@@ -1153,8 +1201,8 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	struct em7180_data *data = iio_priv(indio_dev);
 	s64 ts = READ_ONCE(data->timestamp);
 	unsigned int seq = READ_ONCE(data->irq_seq);
-	unsigned int status, err = 0;
-	int ret, err_ret = 0, scan_ret = -EAGAIN;
+	unsigned int status, pending = 0;
+	int ret, scan_ret = -EAGAIN;
 	int tries = EM7180_EVENT_READ_TRIES;
 	bool scan = false, fresh = false;
 
@@ -1163,13 +1211,14 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 			ret = regmap_read(data->regmap, EM7180_REG_EVENT_STATUS,
 					  &status);
 		} while (ret && --tries);
-		if (!ret && (status & EM7180_EVENT_ERROR))
-			err_ret = regmap_read(data->regmap, EM7180_REG_ERROR,
-					      &err);
-		if (!ret && (status & EM7180_EVENT_CPU_RESET)) {
+		/* EventStatus latches every event; INT rises for enabled ones */
+		if (!ret)
+			pending = status & (EM7180_EVENT_ALWAYS | data->pace_event);
+		if (pending & EM7180_EVENT_ERROR)
+			em7180_report_error(data);
+		if (pending & EM7180_EVENT_CPU_RESET) {
 			em7180_chip_recover(data);
-		} else if (!ret && (status & EM7180_EVENT_DATA) &&
-			   data->pace_event) {
+		} else if (pending & EM7180_EVENT_DATA) {
 			/* The burst in the same lock section: no transfer in between */
 			scan = true;
 			data->scan_seq = data->xfer_seq;
@@ -1184,13 +1233,9 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 				    "cannot read the event status: %d\n", ret);
 		return IRQ_HANDLED;
 	}
-
-	if ((status & EM7180_EVENT_ERROR) && err_ret)
-		dev_err_ratelimited(data->dev,
-				    "chip error, error register unreadable: %d\n",
-				    err_ret);
-	else if (status & EM7180_EVENT_ERROR)
-		dev_err_ratelimited(data->dev, "chip error 0x%02x\n", err);
+	/* Not ours: another device on a shared line, or a glitch */
+	if (!pending)
+		return IRQ_NONE;
 
 	if (scan) {
 		/* The trigger handler runs nested, in this thread */
@@ -1494,13 +1539,14 @@ static int em7180_standby(struct em7180_data *data)
 	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
 			   EM7180_ALGO_CTRL_STANDBY);
 	if (ret)
-		return ret;
-
-	ret = regmap_read_poll_timeout(data->regmap, EM7180_REG_ALGO_STATUS,
-				       status,
-				       status & EM7180_ALGO_STATUS_HALTED,
-				       EM7180_STANDBY_POLL_US,
-				       EM7180_STANDBY_TIMEOUT_US);
+		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
+				   EM7180_ALGO_CTRL_STANDBY);
+	if (!ret)
+		ret = regmap_read_poll_timeout(data->regmap,
+					       EM7180_REG_ALGO_STATUS, status,
+					       status & EM7180_ALGO_STATUS_HALTED,
+					       EM7180_STANDBY_POLL_US,
+					       EM7180_STANDBY_TIMEOUT_US);
 	if (ret)
 		dev_warn(data->dev,
 			 "standby not confirmed (%d); resume runs the algorithm again\n",
@@ -1745,11 +1791,14 @@ static int em7180_chip_restore(struct em7180_data *data, bool *lost,
 			       u16 *rom, u16 *ram)
 {
 	unsigned int status = 0;
-	int ret;
+	int ret, err;
 
-	ret = regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, &status);
+	/* As at probe: a chip still in its reset does not acknowledge */
+	ret = read_poll_timeout(em7180_read_status, err, !err,
+				EM7180_READY_POLL_US, EM7180_READY_TIMEOUT_US,
+				false, data, &status);
 	if (ret)
-		return ret;
+		return err;
 
 	if (!*lost && !(status & EM7180_SENTRAL_STANDBY))
 		return regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
