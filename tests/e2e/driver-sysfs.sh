@@ -160,12 +160,17 @@ xfer_max() {
 	echo $(((2 + single) * $1 + 4 + single + 1))
 }
 # One verified parameter write, measured; one more when the learned
-# acknowledge wait was shortened and the poll came early.
+# acknowledge wait was shortened and the poll came early; and where the
+# firmware keeps its last echo past the end of a transfer (knob ack_end),
+# the read of another parameter (a request and its poll) that changes the
+# echo of this same parameter's write just before.
+[ "$(cat "$SIM_DBG/ack_end")" = 0 ] && stale=0 || stale=2
 knob stats 0
 ok "echo 46 > in_accel_z_calibbias again" sh -c "echo 46 > $DEV/in_accel_z_calibbias"
 t=$(dbg_get stats transactions)
 echo "# one calibbias write: $t transactions, bus_time_us $(dbg_get stats bus_time_us)"
-ok "one parameter write: at most $(xfer_max 1) transactions ($t)" [ "$t" -le "$(xfer_max 1)" ]
+ok "one parameter write: at most $(($(xfer_max 1) + stale)) transactions ($t)" \
+	[ "$t" -le $(($(xfer_max 1) + stale)) ]
 
 # Firmware that keeps its last acknowledge when a transfer ends (ack_end 2)
 # or serves the stop only after its latency (1): the acknowledge of the
