@@ -349,6 +349,20 @@ ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
 ok "the device is back and reads" wait_for 5 device_reads
 DEV=$(em7180_dir)
 
+# A host reboot that left the chip idle with its firmware loaded
+# (SentralStatus 0x03, nothing runs until a ResetRequest): probe resets it.
+ok "unbind" sh -c "echo $CLIENT > $DRV/unbind"
+knob warm_reboot 1
+ok "rebind onto a chip left idle by a warm reboot" sh -c "echo $CLIENT > $DRV/bind"
+ok "the device is back and reads" wait_for 5 device_reads
+DEV=$(em7180_dir)
+like "probe said so" "$(dmesg | grep em7180 | tail -n 5)" \
+	"chip idle with its firmware loaded \(SentralStatus 0x03\): resetting it"
+is "the chip is out of that state" "$(cat "$SIM_DBG/warm_reboot")" 0
+ok "the algorithm runs" chip_idle
+ok "a parameter transfer is served" dd if="$DEV/calibration_data" of=/dev/null \
+	bs=140 count=1 status=none
+
 kmemleak=/sys/kernel/debug/kmemleak
 if [ -w $kmemleak ]; then
 	# Only objects older than 5 s are reported.

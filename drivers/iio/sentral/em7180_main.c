@@ -109,6 +109,7 @@
 #define EM7180_UPLOAD_TIMEOUT_US	4000000
 #define EM7180_STANDBY_POLL_US		1000
 #define EM7180_STANDBY_TIMEOUT_US	1000000
+#define EM7180_ALIVE_TIMEOUT_US		50000
 /* Power-on reset; then the chip may not acknowledge for a while */
 #define EM7180_POWER_ON_US		10000
 #define EM7180_READY_POLL_US		5000
@@ -1475,6 +1476,36 @@ static int em7180_wait_firmware(struct em7180_data *data,
 }
 
 /*
+ * A host reboot without a power cycle can leave the chip showing its
+ * firmware loaded (SentralStatus 0x03) but idle until a ResetRequest
+ * (kriswiner/EM7180_SENtral_sensor_hub issue 52, "should be 11"): a chip
+ * that does not enter standby when HostControl is cleared is reset.
+ */
+static int em7180_check_alive(struct em7180_data *data, unsigned int *status)
+{
+	int ret;
+
+	ret = regmap_write(data->regmap, EM7180_REG_HOST_CTRL, 0);
+	if (ret)
+		return ret;
+	ret = regmap_read_poll_timeout(data->regmap, EM7180_REG_SENTRAL_STATUS,
+				       *status, *status & EM7180_SENTRAL_STANDBY,
+				       EM7180_STANDBY_POLL_US,
+				       EM7180_ALIVE_TIMEOUT_US);
+	if (ret != -ETIMEDOUT)
+		return ret;
+
+	dev_warn(data->dev,
+		 "chip idle with its firmware loaded (SentralStatus 0x%02x): resetting it\n",
+		 *status);
+	ret = regmap_write(data->regmap, EM7180_REG_RESET_REQ,
+			   EM7180_RESET_REQ_RESET);
+	if (ret)
+		return ret;
+	return em7180_wait_firmware(data, status);
+}
+
+/*
  * Configure while HostControl is 0, then run, as em718x_core.c does: the
  * rates and outputs are set before the sensors start. Leaves any
  * parameter transfer an earlier user may have abandoned, and reads
@@ -1667,6 +1698,8 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 		return ret;
 
 	ret = em7180_wait_firmware(data, &status);
+	if (!ret)
+		ret = em7180_check_alive(data, &status);
 	if (ret)
 		return dev_err_probe(dev, ret,
 				     "firmware not ready (SentralStatus 0x%02x)\n",
