@@ -5,6 +5,8 @@ table (stdout) and a JSON file; compare with the targets of DESIGN §6.
 
 usage: report.py RAW JSON
        report.py --plan RATE...   (the stream to run per channel set)
+       report.py --plan-bus KHZ RATE...   (the rates to try per channel set
+                                           with the wire time at KHZ)
 """
 import json
 import os
@@ -42,6 +44,30 @@ def floor(op, params, ack_us):
     bits = enter_exit + params * per
     return {
         "transactions": 3 + 2 * params,
+        "bits": bits,
+        "bus_time_us": round(bits * BIT_US + params * ack_us),
+    }
+
+
+# The same in the reference hosts' order, for a chip whose register pointer
+# stops at 0x3A and 0x63 (the simulator's autoinc_stop 1): no transfer
+# crosses 0x63->0x64 or 0x3A->0x3B, so per parameter
+#   restore   write LoadParam0..3                        [0x60, b0..b3]
+#             write ParamRequest n|0x80                  [0x64, req]
+#             read ParamAcknowledge (address, 1 byte)    [0x3a] [ack]
+#   save      write ParamRequest n                       [0x64, n]
+#             read ParamAcknowledge                      [0x3a] [ack]
+#             read SavedParam0..3                        [0x3b] [b0..b3]
+# with the same enter and exit, and one acknowledge latency per parameter.
+def floor_single(op, params, ack_us):
+    enter_exit = xfer_bits(2) * 3
+    per = {
+        "restore": xfer_bits(5) + xfer_bits(2) + xfer_bits(1, 1),
+        "save": xfer_bits(2) + xfer_bits(1, 1) + xfer_bits(1, 4),
+    }[op]
+    bits = enter_exit + params * per
+    return {
+        "transactions": 3 + 3 * params,
         "bits": bits,
         "bus_time_us": round(bits * BIT_US + params * ack_us),
     }
@@ -90,11 +116,39 @@ def plan(rates):
             print(name, max(fit), " ".join(chans))
 
 
+# With the bus clock modelled (the simulator's bus_khz), one bit lasts
+# 1000/KHZ us and the same bits cross the wire.
+def scan_floor_at(channels, khz):
+    fl = scan_floor(channels)
+    fl["bus_us"] = fl["bus_us"] / BIT_US * 1000 / khz
+    return fl
+
+
+# The highest of RATES whose scan fits the period on the wire at KHZ: what
+# the wire allows (Documentation/iio/sentral.rst's bus-rate table).
+def wire_rate(channels, khz, rates):
+    fit = [r for r in rates if scan_floor_at(channels, khz)["bus_us"] < 1e6 / r]
+    return max(fit) if fit else None
+
+
+# "SET WIRE_RATE RATES SENSORS CHANNELS..." per set at bus clock KHZ: the
+# rates to try, highest first, from the one the wire allows down (comma
+# separated), and the simulator's names of the set's sensors.
+def plan_bus(khz, rates):
+    for name, chans in STREAM_SETS:
+        top = wire_rate(chans, khz, rates)
+        if top is None:
+            continue
+        down = sorted((r for r in rates if r <= top), reverse=True)
+        print(name, top, ",".join(map(str, down)),
+              ",".join(b[0] for b in blocks_of(chans)), " ".join(chans))
+
+
 # Per set: the steady state between snapshots a and b, the losses of the
 # whole stream (snapshot "end"). A scan is a new sample of the set's most
 # frequently read sensor; a lost one is counted on the sensor that lost most.
-def stream_set(m, name, chans):
-    p = "stream." + name
+def stream_set(m, name, chans, p=None, khz=None):
+    p = p or "stream." + name
     if p + ".rate_hz" not in m:
         return None
 
@@ -105,7 +159,7 @@ def stream_set(m, name, chans):
     pace = max(sensors, key=lambda s: d(s + "_read"))
     scans = d(pace + "_read")
     secs = (m[p + ".b.t_us"] - m[p + ".a.t_us"]) / 1e6
-    fl = scan_floor(chans)
+    fl = scan_floor_at(chans, khz) if khz else scan_floor(chans)
     rate = m[p + ".rate_hz"]
     def end(s, k):
         return m["%s.end.%s_%s" % (p, s, k)]
@@ -114,6 +168,11 @@ def stream_set(m, name, chans):
     # unless the simulator's timer that replaced it was held up.
     drv = max(end(s, "drops_seen") - end(s, "drops_seen_held") for s in sensors)
     har = max(end(s, "drops_unseen") + end(s, "drops_seen_held") for s in sensors)
+    # the driver's between the steady-state snapshots, and the samples the
+    # stream skipped (_gaps: not those made after it stopped)
+    drv_steady = max(d(s + "_drops_seen") - d(s + "_drops_seen_held")
+                     for s in sensors)
+    gaps = max(end(s, "gaps") for s in sensors)
     return {
         "channels": chans,
         "rate_hz": rate,
@@ -130,7 +189,42 @@ def stream_set(m, name, chans):
         "driver_drops": drv,
         "harness_drops": har,
         "harness_drops_timer_held": max(end(s, "gaps_held") for s in sensors),
+        "driver_drops_steady": drv_steady,
+        "samples_skipped": gaps,
+        "timer_late": m["%s.end.timer_late" % p],
     }
+
+
+# Streams per bus clock (tests/bench/bench stream_bus): per clock and set,
+# the rates tried from the one the wire allows down, each a stream_set().
+def bus_sets(m):
+    out = []
+    clocks = sorted({int(k.split(".")[1]) for k in m
+                     if k.startswith("stream_bus.") and k.endswith(".wire_rate_hz")})
+    for khz in clocks:
+        for name, chans in STREAM_SETS:
+            p = "stream_bus.%d.%s" % (khz, name)
+            if p + ".wire_rate_hz" not in m:
+                continue
+            rates = sorted((int(k.split(".")[3]) for k in m
+                            if k.startswith(p + ".") and k.endswith(".rate_hz")),
+                           reverse=True)
+            tried = [stream_set(m, name, chans, "%s.%d" % (p, r), khz)
+                     for r in rates]
+            free = [t["rate_hz"] for t in tried if t["driver_drops"] == 0]
+            top = free[0] if free else None
+            fl = scan_floor_at(chans, khz)
+            out.append({
+                "bus_khz": khz, "set": name,
+                "wire_rate_hz": m[p + ".wire_rate_hz"],
+                "wire_max_hz": round(1e6 / fl["bus_us"], 1),
+                "floor_us_per_scan": round(fl["bus_us"], 1),
+                "drop_free_rate_hz": top,
+                "driver_drops_below": sum(t["driver_drops"] for t in tried
+                                          if top and t["rate_hz"] < top),
+                "rates": tried,
+            })
+    return out
 
 
 def main():
@@ -149,15 +243,23 @@ def main():
         rows.append((name, value, target or "",
                      "" if ok is None else ("PASS" if ok else "MISS")))
 
-    max_trans = 2 * params + 4
-    for op in ("restore", "save"):
-        fl = floor(op, params, ack)
-        runs = sorted(k.split(".")[1] for k in m
-                      if k.startswith(op + ".run") and k.endswith(".bus_time_us"))
+    # The driver's order (bursts across 0x63->0x64 and 0x3A->0x3B), then,
+    # on a chip whose pointer stops there (autoinc_stop), the hosts' order.
+    modes = [("", floor, 2 * params + 4, "%d"),
+             ("autoinc_stop.", floor_single, 3 * params + 5,
+              "%d = 3 x " + str(params) + " + 5")]
+    for (pre, floor_of, max_trans, max_text), op in (
+            (mode, op) for mode in modes for op in ("restore", "save")):
+        if pre + op + ".run1.transactions" not in m:
+            continue
+        fl = floor_of(op, params, ack)
+        runs = sorted(k[len(pre):].split(".")[1] for k in m
+                      if k.startswith(pre + op + ".run")
+                      and k.endswith(".bus_time_us"))
         # Bus figures: the worst run. Real time: the best run, as host
         # load only ever adds to it. All runs are kept.
         def get(r, k):
-            return m["%s.%s.%s" % (op, r, k)]
+            return m["%s%s.%s.%s" % (pre, op, r, k)]
         worst = max(runs, key=lambda r: (get(r, "bus_time_us"),
                                          get(r, "transactions")))
         best = min(runs, key=lambda r: get(r, "elapsed_us"))
@@ -169,25 +271,33 @@ def main():
         # simulated bus does not spend in real time.
         wire_us = get(best, "bus_time_us") - get(best, "params_served") * ack
         time_us = g["elapsed_us"] + wire_us
+        q = pre + op
         res.update({
-            op + ".transactions": g["transactions"],
-            op + ".bytes": g["bytes"],
-            op + ".bus_time_us": g["bus_time_us"],
-            op + ".min_bus_time_us": fl["bus_time_us"],
-            op + ".min_transactions": fl["transactions"],
-            op + ".elapsed_us": g["elapsed_us"],
-            op + ".time_us": time_us,
-            op + ".runs": [{k: m["%s.%s.%s" % (op, r, k)] for k in
-                            ("transactions", "bus_time_us", "elapsed_us")}
-                           for r in runs],
+            q + ".transactions": g["transactions"],
+            q + ".bytes": g["bytes"],
+            q + ".bus_time_us": g["bus_time_us"],
+            q + ".min_bus_time_us": fl["bus_time_us"],
+            q + ".min_transactions": fl["transactions"],
+            q + ".elapsed_us": g["elapsed_us"],
+            q + ".time_us": time_us,
+            q + ".runs": [{k: get(r, k) for k in
+                           ("transactions", "bus_time_us", "elapsed_us")}
+                          for r in runs],
         })
-        row(op + ".transactions", g["transactions"],
-            "<= %d (floor %d)" % (max_trans, fl["transactions"]),
+        first = pre + "first_" + op
+        if first + ".transactions" in m:
+            # the first after the bind, before the acknowledge wait is known
+            res[first] = {k: m["%s.%s" % (first, k)] for k in
+                          ("transactions", "bus_time_us", "elapsed_us")}
+        row(q + ".transactions", g["transactions"],
+            ("<= " + max_text + " (floor %d)") % (max_trans, fl["transactions"]),
             g["transactions"] <= max_trans)
-        row(op + ".bus_time_us", g["bus_time_us"],
+        row(q + ".bus_time_us", g["bus_time_us"],
             "<= 1.2 x %d = %d" % (fl["bus_time_us"], 1.2 * fl["bus_time_us"]),
             g["bus_time_us"] <= 1.2 * fl["bus_time_us"])
-        row(op + ".time_us (elapsed + wire, best run)", time_us,
+        if pre:
+            row(q + ".elapsed_us (best run)", g["elapsed_us"])
+        row(q + ".time_us (elapsed + wire, best run)", time_us,
             "<= 1.2 x %d" % fl["bus_time_us"],
             time_us <= 1.2 * fl["bus_time_us"])
 
@@ -235,6 +345,39 @@ def main():
             st["harness_drops"])
         row("    of which the sim's timer was held up",
             st["harness_drops_timer_held"])
+
+    # Streams per bus clock, the wire time modelled: per set, the rates
+    # tried from the one the wire allows down; the highest without a
+    # sample lost to the driver, its bus time per scan against the floor
+    # at that clock, and the driver's losses at the rates below it.
+    res["stream_bus"] = bus_sets(m)
+    for b in res["stream_bus"]:
+        n = "stream %s @ %d kHz" % (b["set"], b["bus_khz"])
+        row(n + " wire allows (advertised; wire max)",
+            "%d Hz; %.0f Hz" % (b["wire_rate_hz"], b["wire_max_hz"]),
+            "floor %.1f us/scan" % b["floor_us_per_scan"])
+        goal = 0.9 * b["wire_rate_hz"]
+        row("  highest drop-free rate (no driver drop)",
+            "%s Hz" % b["drop_free_rate_hz"] if b["drop_free_rate_hz"] else "none",
+            ">= 0.9 x %d" % b["wire_rate_hz"],
+            bool(b["drop_free_rate_hz"]) and b["drop_free_rate_hz"] >= goal)
+        for t in b["rates"]:
+            row("  @ %d Hz bus_us_per_scan / tx_per_scan"
+                % t["rate_hz"], "%.1f / %.2f" % (t["bus_us_per_scan"],
+                                                 t["tx_per_scan"]),
+                "<= 1.05 x %.1f (floor)" % t["floor_us_per_scan"],
+                t["bus_us_per_scan"] <= 1.05 * t["floor_us_per_scan"])
+            row("    driver_drops (steady state) / skipped / sim timer late",
+                "%d (%d) / %d / %d" % (t["driver_drops"],
+                                       t["driver_drops_steady"],
+                                       t["samples_skipped"], t["timer_late"]))
+        below = [t for t in b["rates"]
+                 if b["drop_free_rate_hz"] and t["rate_hz"] < b["drop_free_rate_hz"]]
+        if below:
+            row("  driver drops below %d Hz (%s Hz)" % (
+                b["drop_free_rate_hz"], ", ".join(str(t["rate_hz"]) for t in below)),
+                b["driver_drops_below"], "0", b["driver_drops_below"] == 0)
+
     res["host_loadavg"] = m["host_loadavg_x100"] / 100
     row("host_loadavg (1 min, after the stream)", res["host_loadavg"])
 
@@ -331,5 +474,8 @@ def main():
 if __name__ == "__main__":
     if sys.argv[1:2] == ["--plan"]:
         plan([int(r) for r in sys.argv[2:]])
+        sys.exit(0)
+    if sys.argv[1:2] == ["--plan-bus"]:
+        plan_bus(int(sys.argv[2]), [int(r) for r in sys.argv[3:]])
         sys.exit(0)
     sys.exit(main())
