@@ -6,7 +6,8 @@
 # enabled ones): an interrupt with no enabled event pending is not the
 # driver's (IRQ_NONE, so that the kernel can tell a line that fires for
 # nobody); an Error event is reported once per ErrorRegister and
-# SensorStatus pair, decoded.
+# SensorStatus pair, decoded; resets of the chip's own are recovered out of
+# the interrupt thread, a burst of them once, and at most once a second.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/lib/em7180.sh"
 
@@ -50,4 +51,27 @@ ok "another error is said" wait_for 2 sh -c "[ \$(dmesg | grep -c 'em7180.*chip 
 like "decoded" "$(dmesg | grep 'em7180.*chip error' | tail -n 1)" \
 	"chip error 0x30 \\(math error\\), sensor status 0x00"
 knob error 0
+
+# --- Resets of the chip's own ---------------------------------------------
+resets() {
+	dmesg | grep -c "em7180.*reset itself"
+}
+chip_idle() {
+	[ "$(dbg_get state transfer)" = 0 ] && [ "$(dbg_get state running)" = 1 ]
+}
+r0=$(resets)
+knob chip_reset 1
+knob chip_reset 1
+knob chip_reset 1
+ok "three resets in a row are recovered" wait_for 5 sh -c "[ \$(dmesg | grep -c 'em7180.*reset itself') -gt $r0 ]"
+sleep 0.5
+is "once" "$(($(resets) - r0))" 1
+ok "the algorithm runs" chip_idle
+knob chip_reset 1
+ok "another reset soon after is recovered" wait_for 5 sh -c "[ \$(dmesg | grep -c 'em7180.*reset itself') -gt $((r0 + 1)) ]"
+gap=$(dmesg | grep "em7180.*reset itself" | tail -n 2 |
+	sed 's/^\[ *\([0-9.]*\)\].*/\1/' | awk 'NR == 1 { a = $1 } NR == 2 { printf "%d", ($1 - a) * 1000 }')
+ok "a second after the one before at the earliest (${gap} ms)" [ "$gap" -ge 990 ]
+like "the log counts them" "$(dmesg | grep 'em7180.*reset itself' | tail -n 1)" "\\(2 since probe\\)"
+ok "the algorithm runs" chip_idle
 done_testing

@@ -17,6 +17,7 @@
 #include <linux/regmap.h>
 #include <linux/types.h>
 #include <linux/wait.h>
+#include <linux/workqueue.h>
 
 #define EM7180_REG_QX			0x00	/* float32 x, y, z, w */
 #define EM7180_REG_GTIME		0x28
@@ -122,6 +123,9 @@ struct iio_trigger;
  * @accel_offset: parameters 27..29, the accelerometer offsets in float g
  * @pace_event: the EventStatus bit whose interrupt paces scans, 0 when off
  * @last_error: SensorStatus << 8 | ErrorRegister last reported
+ * @recover_work: recovery from a reset of the chip's own
+ * @resets: such resets recovered since probe
+ * @recovered_at: jiffies at the last recovery
  * @orientation: mount matrix from firmware
  * @timestamp: time of the last data-ready interrupt, written by the hard handler
  * @scan_ts: time of the interrupt of the scan being captured
@@ -159,6 +163,9 @@ struct em7180_data {
 	u32 accel_offset[3];
 	unsigned int pace_event;
 	unsigned int last_error;
+	struct delayed_work recover_work;
+	unsigned int resets;
+	unsigned long recovered_at;
 	struct iio_mount_matrix orientation;
 	s64 timestamp;
 	s64 scan_ts;

@@ -36,6 +36,7 @@
 #include <linux/sysfs.h>
 #include <linux/types.h>
 #include <linux/wait.h>
+#include <linux/workqueue.h>
 
 #include <linux/iio/buffer.h>
 #include <linux/iio/iio.h>
@@ -110,6 +111,14 @@
 #define EM7180_STANDBY_POLL_US		1000
 #define EM7180_STANDBY_TIMEOUT_US	1000000
 #define EM7180_ALIVE_TIMEOUT_US		50000
+/*
+ * Recovery from a reset of the chip's own waits 50 ms, as Sony's driver
+ * does, so that a burst of resets is recovered once; and comes at most
+ * once a second, so that a chip that keeps resetting does not hold the
+ * bus and the lock.
+ */
+#define EM7180_RECOVER_DELAY_MS		50
+#define EM7180_RECOVER_INTERVAL_MS	1000
 /* Power-on reset; then the chip may not acknowledge for a while */
 #define EM7180_POWER_ON_US		10000
 #define EM7180_READY_POLL_US		5000
@@ -1136,6 +1145,35 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
 
 static int em7180_chip_recover(struct em7180_data *data);
 
+/* Out of the interrupt thread, which other events need */
+static void em7180_recover_schedule(struct em7180_data *data)
+{
+	unsigned long next = data->recovered_at +
+			     msecs_to_jiffies(EM7180_RECOVER_INTERVAL_MS);
+	unsigned long delay = msecs_to_jiffies(EM7180_RECOVER_DELAY_MS);
+
+	if (data->resets && time_before(jiffies + delay, next))
+		delay = next - jiffies;
+	schedule_delayed_work(&data->recover_work, delay);
+}
+
+static void em7180_recover_flush(void *arg)
+{
+	struct em7180_data *data = arg;
+
+	flush_delayed_work(&data->recover_work);
+}
+
+static void em7180_recover_work(struct work_struct *work)
+{
+	struct em7180_data *data = container_of(to_delayed_work(work),
+						struct em7180_data,
+						recover_work);
+
+	guard(mutex)(&data->lock);
+	em7180_chip_recover(data);
+}
+
 /* ErrorRegister values that the reference hosts decode */
 static const char *em7180_error_name(unsigned int err)
 {
@@ -1218,7 +1256,7 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 		if (pending & EM7180_EVENT_ERROR)
 			em7180_report_error(data);
 		if (pending & EM7180_EVENT_CPU_RESET) {
-			em7180_chip_recover(data);
+			em7180_recover_schedule(data);
 		} else if (pending & EM7180_EVENT_DATA) {
 			/* The burst in the same lock section: no transfer in between */
 			scan = true;
@@ -1733,6 +1771,15 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	indio_dev->available_scan_masks = em7180_scan_masks;
 	indio_dev->modes = INDIO_DIRECT_MODE;
 
+	/*
+	 * On unbind after the interrupt is freed: a pending recovery runs, so
+	 * that the chip is left running (em7180_unbind_action())
+	 */
+	INIT_DELAYED_WORK(&data->recover_work, em7180_recover_work);
+	ret = devm_add_action_or_reset(dev, em7180_recover_flush, data);
+	if (ret)
+		return ret;
+
 	if (data->irq) {
 		ret = em7180_trigger_probe(indio_dev, data->irq);
 		if (ret)
@@ -1874,9 +1921,12 @@ static int em7180_chip_recover(struct em7180_data *data)
 
 	lockdep_assert_held(&data->lock);
 
+	data->resets++;
 	dev_warn(data->dev,
-		 "the chip reset itself; restoring its configuration and calibration\n");
+		 "the chip reset itself (%u since probe); restoring its configuration and calibration\n",
+		 data->resets);
 	ret = em7180_chip_restore(data, &lost, &rom, &ram);
+	data->recovered_at = jiffies;
 	if (ret)
 		dev_err(data->dev, "cannot restore the chip after its reset: %d\n",
 			ret);
@@ -1932,6 +1982,7 @@ static int em7180_suspend(struct device *dev)
 		return ret;
 	if (data->irq)
 		disable_irq(data->irq);
+	flush_delayed_work(&data->recover_work);
 
 	ret = em7180_chip_suspend(data);
 	if (ret) {
