@@ -110,7 +110,8 @@ struct iio_trigger;
  * @lock: serialises every chip access and the fields below
  * @irq: interrupt of the INT pin, 0 when not wired
  * @ack_wait_us: wait before the first ParamAcknowledge poll, 0 until learned
- * @ack_settled: a poll came too early once: @ack_wait_us no longer shrinks
+ * @ack_min_us: the shortest time an acknowledge was found at after an
+ *	        early poll, 0 until one was early
  * @param_single: the chip takes parameters one register per transaction
  * @cal: calibration state last read
  * @product_id: ProductID read at probe
@@ -150,7 +151,7 @@ struct em7180_data {
 	struct mutex lock;	/* chip access and every field below */
 	int irq;
 	unsigned int ack_wait_us;
-	bool ack_settled;
+	unsigned int ack_min_us;
 	bool param_single;
 	struct em7180_cal cal;
 	u8 product_id;

@@ -1478,6 +1478,15 @@ static int em7180_read_status(struct em7180_data *data, unsigned int *status)
  * Return: 0, -ENODEV without a firmware EEPROM, -EIO for a failed upload,
  * -ETIMEDOUT, or the bus error.
  */
+static int em7180_reset(struct em7180_data *data, const char *why,
+			unsigned int status)
+{
+	dev_warn(data->dev, "%s (SentralStatus 0x%02x): resetting it\n", why,
+		 status);
+	return regmap_write(data->regmap, EM7180_REG_RESET_REQ,
+			    EM7180_RESET_REQ_RESET);
+}
+
 static int em7180_wait_firmware(struct em7180_data *data,
 				unsigned int *status)
 {
@@ -1485,11 +1494,8 @@ static int em7180_wait_firmware(struct em7180_data *data,
 
 	for (tries = 0; tries < 2; tries++) {
 		if (tries) {
-			dev_warn(data->dev,
-				 "firmware upload not done (status 0x%02x), resetting\n",
-				 *status);
-			ret = regmap_write(data->regmap, EM7180_REG_RESET_REQ,
-					   EM7180_RESET_REQ_RESET);
+			ret = em7180_reset(data, "firmware upload not done",
+					   *status);
 			if (ret)
 				return ret;
 		}
@@ -1533,11 +1539,7 @@ static int em7180_check_alive(struct em7180_data *data, unsigned int *status)
 	if (ret != -ETIMEDOUT)
 		return ret;
 
-	dev_warn(data->dev,
-		 "chip idle with its firmware loaded (SentralStatus 0x%02x): resetting it\n",
-		 *status);
-	ret = regmap_write(data->regmap, EM7180_REG_RESET_REQ,
-			   EM7180_RESET_REQ_RESET);
+	ret = em7180_reset(data, "chip idle with its firmware loaded", *status);
 	if (ret)
 		return ret;
 	return em7180_wait_firmware(data, status);
@@ -1890,6 +1892,8 @@ static int em7180_chip_restore(struct em7180_data *data, bool *lost,
 	}
 	*lost = true;
 	data->cal.valid = false;
+	/* The firmware may be another, with another latency */
+	data->ack_min_us = 0;
 
 	ret = em7180_wait_firmware(data, &status);
 	if (ret) {

@@ -43,7 +43,7 @@
 #define EM7180_ACK_TIMEOUT_US		1000000U
 #define EM7180_ACK_WAIT_INIT_US		1000U
 #define EM7180_ACK_WAIT_MAX_US		100000U
-#define EM7180_ACK_STEP_MIN_US		50U
+#define EM7180_ACK_STEP_MIN_US		25U
 #define EM7180_ACK_STEP_MAX_US		10000U
 
 /* ParamAcknowledge through the calibration score: 0x3A..0x4E */
@@ -198,10 +198,11 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
  * a read in one burst, which returns SavedParam too, else 1.
  *
  * The first poll comes after data->ack_wait_us; one too early is followed
- * by another after a quarter of the time spent so far. The wait shrinks by
- * 1/8 after each poll in time until one is early, and from then on is the
- * time at which the last early poll found the acknowledge: a steady
- * firmware costs one poll per parameter, a slower one raises the wait.
+ * by another after an eighth of the time spent so far, and the wait
+ * becomes the time it found the acknowledge at. A poll in time shrinks the
+ * wait by 1/8 while it is 1/8 or more above the shortest such time seen:
+ * a steady firmware costs one poll per parameter, and a wait raised by a
+ * slow moment comes back down.
  */
 static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 			    size_t len)
@@ -225,14 +226,16 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 		if (took >= EM7180_ACK_TIMEOUT_US)
 			return -ETIMEDOUT;
 		early = true;
-		wait = clamp(took / 4, EM7180_ACK_STEP_MIN_US,
+		wait = clamp(took / 8, EM7180_ACK_STEP_MIN_US,
 			     EM7180_ACK_STEP_MAX_US);
 	}
 
 	if (early) {
 		data->ack_wait_us = min(took, EM7180_ACK_WAIT_MAX_US);
-		data->ack_settled = true;
-	} else if (!data->ack_settled) {
+		data->ack_min_us = min_not_zero(data->ack_min_us,
+						data->ack_wait_us);
+	} else if (!data->ack_min_us ||
+		   wait - wait / 8 >= data->ack_min_us) {
 		data->ack_wait_us = wait - wait / 8;
 	}
 	return 0;
