@@ -36,14 +36,17 @@ def xfer_bits(*lengths):
 #   exit      write ParamRequest = 0, then AlgorithmControl = 0
 # plus one acknowledge latency per parameter: nothing else can overlap it.
 def floor(op, params, ack_us):
-    enter_exit = xfer_bits(2) * 3
-    per = {
-        "restore": xfer_bits(6) + xfer_bits(1, 1),
-        "save": xfer_bits(2) + xfer_bits(1, 5),
-    }[op]
-    bits = enter_exit + params * per
+    return floor_of({
+        "restore": (xfer_bits(6), xfer_bits(1, 1)),
+        "save": (xfer_bits(2), xfer_bits(1, 5)),
+    }[op], params, ack_us)
+
+
+# Enter, exit, and per parameter the transactions in @per (their bits).
+def floor_of(per, params, ack_us):
+    bits = xfer_bits(2) * 3 + params * sum(per)
     return {
-        "transactions": 3 + 2 * params,
+        "transactions": 3 + len(per) * params,
         "bits": bits,
         "bus_time_us": round(bits * BIT_US + params * ack_us),
     }
@@ -60,17 +63,10 @@ def floor(op, params, ack_us):
 #             read SavedParam0..3                        [0x3b] [b0..b3]
 # with the same enter and exit, and one acknowledge latency per parameter.
 def floor_single(op, params, ack_us):
-    enter_exit = xfer_bits(2) * 3
-    per = {
-        "restore": xfer_bits(5) + xfer_bits(2) + xfer_bits(1, 1),
-        "save": xfer_bits(2) + xfer_bits(1, 1) + xfer_bits(1, 4),
-    }[op]
-    bits = enter_exit + params * per
-    return {
-        "transactions": 3 + 3 * params,
-        "bits": bits,
-        "bus_time_us": round(bits * BIT_US + params * ack_us),
-    }
+    return floor_of({
+        "restore": (xfer_bits(5), xfer_bits(2), xfer_bits(1, 1)),
+        "save": (xfer_bits(2), xfer_bits(1, 1), xfer_bits(1, 4)),
+    }[op], params, ack_us)
 
 
 # Register blocks of the sensors (EM7180 register reference §1): each
