@@ -7,7 +7,8 @@
 # driver's (IRQ_NONE, so that the kernel can tell a line that fires for
 # nobody); an Error event is reported once per ErrorRegister and
 # SensorStatus pair, decoded; resets of the chip's own are recovered out of
-# the interrupt thread, a burst of them once, and at most once a second.
+# the interrupt thread, a burst of them once, and at most once a second;
+# one that raised no INT is found by the next calibration read.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/lib/em7180.sh"
 
@@ -74,4 +75,18 @@ gap=$(dmesg | grep "em7180.*reset itself" | tail -n 2 |
 ok "a second after the one before at the earliest (${gap} ms)" [ "$gap" -ge 990 ]
 like "the log counts them" "$(dmesg | grep 'em7180.*reset itself' | tail -n 1)" "\\(2 since probe\\)"
 ok "the algorithm runs" chip_idle
+
+# A reset that raises no INT (no line wired, or firmware that does not
+# raise it with EnableEvents cleared): the next calibration read, as the
+# watcher makes every 30 s, finds the chip waiting in standby.
+knob reset_int 0
+r1=$(resets)
+knob chip_reset 1
+sleep 0.6
+cat "$DEV/in_magn_calibration_auto_status" >/dev/null
+ok "a reset without INT is recovered after a calibration read" \
+	wait_for 5 sh -c "[ \$(dmesg | grep -c 'em7180.*reset itself') -gt $r1 ]"
+ok "the algorithm runs" wait_for 5 chip_idle
+is "HostControl run" "$(dbg_get state host_run)" 1
+knob reset_int 1
 done_testing

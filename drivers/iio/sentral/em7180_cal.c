@@ -54,10 +54,16 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_cal_update);
 /*
  * Read the block unless the last read is younger than EM7180_CAL_MAX_AGE_MS;
  * a failed read leaves nothing to serve later.
+ *
+ * The same read starts at SentralStatus: a chip that reset itself waits
+ * in standby for its host, and a board without an INT line, or firmware
+ * that raises none for the reset, would never tell. On a chip whose
+ * register pointer stops at 0x3A, SentralStatus is a read of its own.
  */
 static int em7180_cal_refresh(struct em7180_data *data)
 {
-	u8 regs[EM7180_CAL_BLOCK_LEN];
+	u8 regs[EM7180_REG_CAL_SCORE + 2 - EM7180_REG_SENTRAL_STATUS];
+	u8 *cal = &regs[EM7180_REG_CAL_STATUS - EM7180_REG_SENTRAL_STATUS];
 	int ret;
 
 	lockdep_assert_held(&data->lock);
@@ -67,13 +73,21 @@ static int em7180_cal_refresh(struct em7180_data *data)
 			msecs_to_jiffies(EM7180_CAL_MAX_AGE_MS)))
 		return 0;
 
-	ret = regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, regs,
-			       sizeof(regs));
+	if (data->param_single)
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
+				       regs, 1) ?:
+		      regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, cal,
+				       EM7180_CAL_BLOCK_LEN);
+	else
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
+				       regs, sizeof(regs));
 	data->cal.valid = !ret;
 	if (ret)
 		return ret;
 
-	em7180_cal_update(&data->cal, regs);
+	if (regs[0] & EM7180_SENTRAL_STANDBY)
+		em7180_recover_schedule(data);
+	em7180_cal_update(&data->cal, cal);
 	data->cal.read_at = jiffies;
 	return 0;
 }

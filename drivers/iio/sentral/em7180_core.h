@@ -226,5 +226,6 @@ ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 			char *buf);
 void em7180_cal_update(struct em7180_cal *cal, const u8 *regs);
 void em7180_cal_saved(struct em7180_data *data);
+void em7180_recover_schedule(struct em7180_data *data);
 
 #endif /* _EM7180_CORE_H_ */

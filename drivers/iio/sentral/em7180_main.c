@@ -1145,8 +1145,13 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
 
 static int em7180_chip_recover(struct em7180_data *data);
 
-/* Out of the interrupt thread, which other events need */
-static void em7180_recover_schedule(struct em7180_data *data)
+/**
+ * em7180_recover_schedule() - recover from a reset of the chip's own, soon
+ * @data: driver state, with @data->lock held
+ *
+ * Out of the interrupt thread, which other events need.
+ */
+void em7180_recover_schedule(struct em7180_data *data)
 {
 	unsigned long next = data->recovered_at +
 			     msecs_to_jiffies(EM7180_RECOVER_INTERVAL_MS);

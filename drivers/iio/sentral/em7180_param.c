@@ -362,14 +362,15 @@ static int em7180_param_batch(struct em7180_data *data, unsigned int first,
 	unsigned int i;
 	int ret, end;
 
+	*acked = 0;
 	ret = em7180_param_begin(data, first | write, &started);
 	for (i = 0; !ret && i < count; i++) {
 		ret = em7180_param_request(data, (first + i) | write,
 					   in ? in[i] : 0, out ? &out[i] : NULL,
 					   !started);
 		started = true;
+		*acked += !ret;
 	}
-	*acked = i - !!ret;
 	end = em7180_param_end(data);
 
 	return ret ?: end;
