@@ -458,6 +458,28 @@ echo 100 >"$DEV/in_accel_sampling_frequency"
 ok "capture works" capture
 is "10 scans" "$(stat -c %s "$TMP/cap")" 20
 
+# A transfer whose end cannot be written: both tries of ParamRequest = 0
+# and of the AlgorithmControl bit 7 clear NACKed. The driver tries again
+# later; that try NACKed too, it resets the chip, which is restored.
+knob ack_latency_us 0
+t0=$(dbg_get stats transactions)
+ok "calibbias write" sh -c "echo -47 > $DEV/in_accel_x_calibbias"
+is "costs 6 transactions" "$(($(dbg_get stats transactions) - t0))" 6
+# 10 NACKs: the write's 4 end writes; the read of the offsets that follows
+# a failed write (its start, its 4 end writes); the later try.
+knob nack_run 10
+knob nack_at 5
+nok "calibbias write with its end NACKed: an error" \
+	sh -c "echo 46 > $DEV/in_accel_x_calibbias"
+nacks=$((nacks + 10))
+ok "the driver resets the chip" wait_for 5 sh -c \
+	"dmesg | grep -q 'cannot end a parameter transfer (-6): resetting the chip'"
+ok "and restores it: running, out of transfer mode" wait_for 5 chip_idle
+ok "calibbias reads again" cat "$DEV/in_accel_x_calibbias"
+knob nack_run 1
+knob ack_latency_us 500
+echo 0 >"$DEV/in_accel_x_calibbias"
+
 is "the simulator counted every NACK" "$(dbg_get stats nacks)" $nacks
 total=$((nacks + timeouts + slow))
 echo "# faults injected: $total ($nacks NACKs, $timeouts never acknowledged, $slow slow acknowledges; ${SECONDS} s)"

@@ -196,6 +196,8 @@ struct sentral_sim {
 	struct sim_stats stats;
 	u32 nack_at;
 	u32 nack_count;
+	u32 nack_run;
+	u32 nack_left;
 
 	/* The world: orientation and motion (survives resets) */
 	struct sim_motion world;

@@ -333,9 +333,22 @@ static int nack_at_store(struct sentral_sim *sim, char *buf, ktime_t now)
 {
 	int ret = sim_parse_u32(buf, U32_MAX, &sim->nack_at);
 
-	if (!ret)
+	if (!ret) {
 		sim->nack_count = 0;
+		sim->nack_left = 0;
+	}
 	return ret;
+}
+
+static void nack_run_show(struct seq_file *m, struct sentral_sim *sim,
+			  ktime_t now)
+{
+	seq_printf(m, "%u\n", max(sim->nack_run, 1U));
+}
+
+static int nack_run_store(struct sentral_sim *sim, char *buf, ktime_t now)
+{
+	return sim_parse_u32(buf, 1000, &sim->nack_run);
 }
 
 static void upload_ms_show(struct seq_file *m, struct sentral_sim *sim,
@@ -705,6 +718,7 @@ static const struct sim_knob sim_knobs[] = {
 	{ "ack_never", 0600, ack_never_show, ack_never_store },
 	{ "ack_end", 0600, ack_end_show, ack_end_store },
 	{ "nack_at", 0600, nack_at_show, nack_at_store },
+	{ "nack_run", 0600, nack_run_show, nack_run_store },
 	{ "upload_ms", 0600, upload_ms_show, upload_ms_store },
 	{ "ram_version", 0600, ram_version_show, ram_version_store },
 	{ "rom_version", 0600, rom_version_show, rom_version_store },

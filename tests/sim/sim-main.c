@@ -216,6 +216,20 @@ static void sim_wire_wait(ktime_t end)
 	}
 }
 
+/* nack_at fires at the Nth transaction, and nack_run - 1 more after it */
+static bool sim_nack_armed(struct sentral_sim *sim)
+{
+	if (sim->nack_left) {
+		sim->nack_left--;
+		return true;
+	}
+	if (!sim->nack_at || ++sim->nack_count != sim->nack_at)
+		return false;
+	sim->nack_at = 0;
+	sim->nack_left = max(sim->nack_run, 1U) - 1;
+	return true;
+}
+
 static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 {
 	struct sim_bus *bus = i2c_get_adapdata(adap);
@@ -250,11 +264,8 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 		sim->stats.first = start;
 	sim->stats.transactions++;
 
-	if (sim_nacks(sim, now) ||
-	    (sim->nack_at && ++sim->nack_count == sim->nack_at)) {
+	if (sim_nacks(sim, now) || sim_nack_armed(sim)) {
 		/* the address byte is not acknowledged: nothing happens */
-		if (!sim_nacks(sim, now))
-			sim->nack_at = 0;
 		sim->stats.nacks++;
 		wire_ns = (sim_msg_bits(0) + bits) * bit_ns;
 		sim->stats.bus_ns += wire_ns;

@@ -124,7 +124,9 @@ struct iio_trigger;
  * @accel_offset: parameters 27..29, the accelerometer offsets in float g
  * @pace_event: the EventStatus bit whose interrupt paces scans, 0 when off
  * @last_error: SensorStatus << 8 | ErrorRegister last reported
- * @recover_work: recovery from a reset of the chip's own
+ * @recover_work: recovery from a reset of the chip's own, or from a
+ *		  parameter transfer that could not be ended
+ * @xfer_stuck: that transfer: AlgorithmControl bit 7 may still be set
  * @resets: such resets recovered since probe
  * @recovered_at: jiffies at the last recovery
  * @orientation: mount matrix from firmware
@@ -165,6 +167,7 @@ struct em7180_data {
 	unsigned int pace_event;
 	unsigned int last_error;
 	struct delayed_work recover_work;
+	bool xfer_stuck;
 	unsigned int resets;
 	unsigned long recovered_at;
 	struct iio_mount_matrix orientation;

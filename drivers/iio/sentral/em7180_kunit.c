@@ -19,6 +19,7 @@
 #include <linux/prandom.h>
 #include <linux/regmap.h>
 #include <linux/string.h>
+#include <linux/workqueue.h>
 
 #include "em7180.h"
 #include "em7180_core.h"
@@ -201,6 +202,10 @@ static const struct regmap_bus emu_bus = {
 	.read = emu_read,
 };
 
+static void emu_no_recovery(struct work_struct *work)
+{
+}
+
 static int em7180_test_init(struct kunit *test)
 {
 	struct em7180_test *t;
@@ -222,6 +227,8 @@ static int em7180_test_init(struct kunit *test)
 	t->data.dev = t->dev;
 	t->data.regmap = map;
 	mutex_init(&t->data.lock);
+	/* A transfer that cannot be ended asks for a recovery: none here */
+	INIT_DELAYED_WORK(&t->data.recover_work, emu_no_recovery);
 	test->priv = t;
 
 	return 0;
@@ -235,6 +242,7 @@ static void em7180_test_exit(struct kunit *test)
 	if (!t)
 		return;
 
+	cancel_delayed_work_sync(&t->data.recover_work);
 	regmap_exit(t->data.regmap);
 	root_device_unregister(t->dev);
 }

@@ -1174,8 +1174,24 @@ static void em7180_recover_work(struct work_struct *work)
 	struct em7180_data *data = container_of(to_delayed_work(work),
 						struct em7180_data,
 						recover_work);
+	int ret;
 
 	guard(mutex)(&data->lock);
+	if (data->xfer_stuck) {
+		data->xfer_stuck = false;
+		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+		if (!ret)
+			return;
+		dev_warn(data->dev,
+			 "cannot end a parameter transfer (%d): resetting the chip\n",
+			 ret);
+		ret = regmap_write(data->regmap, EM7180_REG_RESET_REQ,
+				   EM7180_RESET_REQ_RESET);
+		if (ret) {
+			dev_err(data->dev, "cannot reset the chip: %d\n", ret);
+			return;
+		}
+	}
 	em7180_chip_recover(data);
 }
 

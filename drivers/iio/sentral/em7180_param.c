@@ -349,6 +349,11 @@ static int em7180_param_end(struct em7180_data *data)
 	ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
 	if (ret2)
 		ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+	/* Bit 7 may hold fusion paused: try again later, then reset */
+	if (ret2) {
+		data->xfer_stuck = true;
+		em7180_recover_schedule(data);
+	}
 
 	return ret ?: ret2;
 }
