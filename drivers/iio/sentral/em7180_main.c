@@ -283,25 +283,6 @@ static const struct iio_chan_spec em7180_channels[] = {
 	IIO_CHAN_SOFT_TIMESTAMP(EM7180_SCAN_TIMESTAMP),
 };
 
-/*
- * Every set of whole sensors, fewest first: the interrupt that paces a
- * scan is chosen by the sensors in the active mask (em7180_pace_event()),
- * and the core's demux hands each buffer the axes it enabled.
- */
-#define EM7180_Q	BIT(EM7180_SCAN_QUAT)
-#define EM7180_M	GENMASK(EM7180_SCAN_MAGN_Z, EM7180_SCAN_MAGN_X)
-#define EM7180_A	GENMASK(EM7180_SCAN_ACCEL_Z, EM7180_SCAN_ACCEL_X)
-#define EM7180_G	GENMASK(EM7180_SCAN_ANGLVEL_Z, EM7180_SCAN_ANGLVEL_X)
-static const unsigned long em7180_scan_masks[] = {
-	EM7180_Q, EM7180_M, EM7180_A, EM7180_G,
-	EM7180_Q | EM7180_M, EM7180_Q | EM7180_A, EM7180_Q | EM7180_G,
-	EM7180_M | EM7180_A, EM7180_M | EM7180_G, EM7180_A | EM7180_G,
-	EM7180_Q | EM7180_M | EM7180_A, EM7180_Q | EM7180_M | EM7180_G,
-	EM7180_Q | EM7180_A | EM7180_G, EM7180_M | EM7180_A | EM7180_G,
-	EM7180_Q | EM7180_M | EM7180_A | EM7180_G,
-	0
-};
-
 /* One quaternion component, float32 from the chip, as Q14 in an s16 */
 static s16 em7180_quat_component(const u8 *src)
 {
@@ -1791,7 +1772,6 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	indio_dev->info = &em7180_info;
 	indio_dev->channels = em7180_channels;
 	indio_dev->num_channels = ARRAY_SIZE(em7180_channels);
-	indio_dev->available_scan_masks = em7180_scan_masks;
 	indio_dev->modes = INDIO_DIRECT_MODE;
 
 	/*
