@@ -6,10 +6,10 @@
 #ifndef _EM7180_H_
 #define _EM7180_H_
 
+#include <linux/pm.h>
+#include <linux/regmap.h>
+
 struct device;
-struct dev_pm_ops;
-struct regmap;
-struct regmap_config;
 
 extern const struct regmap_config em7180_regmap_config;
 extern const struct dev_pm_ops em7180_pm_ops;
