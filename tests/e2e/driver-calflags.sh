@@ -94,15 +94,18 @@ knob stats 0
 sleep 3
 is "3 s with nobody reading: no bus transaction" \
 	"$(dbg_get stats transactions)" 0
+# One read from SentralStatus through the score; two where the register
+# pointer stops at 0x3A (knob autoinc_stop, as check-long runs this suite).
+reads=$((1 + $(cat "$SIM_DBG/autoinc_stop")))
 knob stats 0
 # shellcheck disable=SC2086
 cat $CAL >/dev/null
-is "status, score, transient and both flags read together: one bus transaction" \
-	"$(dbg_get stats transactions)" 1
+is "status, score, transient and both flags read together: $reads bus transaction(s)" \
+	"$(dbg_get stats transactions)" "$reads"
 sleep 1
 knob stats 0
 cat "$G" >/dev/null
-is "a read after the shared one aged: one more" "$(dbg_get stats transactions)" 1
+is "a read after the shared one aged: as many again" "$(dbg_get stats transactions)" "$reads"
 nok "no calibration change event left" test -e "$DEV/events/in_magn_change_en"
 nok "no update counter left" test -e "$DEV/in_magn_calibration_update_count"
 
