@@ -53,6 +53,31 @@ like "decoded" "$(dmesg | grep 'em7180.*chip error' | tail -n 1)" \
 	"chip error 0x30 \\(math error\\), sensor status 0x00"
 knob error 0
 
+# --- No scan for an error-only interrupt ----------------------------------
+# The magnetometer alone is captured at 1 Hz and paces the scans; the
+# accelerometer runs at 1000 Hz, so its EventStatus bit is set whenever
+# the chip is read. An Error raised just after a magnetometer sample is
+# answered with three one-byte reads (EventStatus, ErrorRegister,
+# SensorStatus) and no read of the data registers.
+mag_read() {
+	dbg_get samples mag_read
+}
+echo 1000 >"$DEV/in_accel_sampling_frequency"
+echo 1 >"$DEV/in_magn_sampling_frequency"
+iio_readdev -T 20000 -b 1 -s 0 em7180 magn_x magn_y magn_z >/dev/null &
+reader=$!
+m0=$(mag_read)
+ok "the magnetometer is captured" wait_for 3 sh -c "[ \$(awk '\$1 == \"mag_read\" { print \$2 }' $SIM_DBG/samples) -gt $m0 ]"
+knob stats 0
+knob error 0x14
+sleep 0.3
+tx=$(dbg_get stats transactions) bytes=$(dbg_get stats bytes)
+is "an Error between two samples: three reads" "$tx" 3
+is "of one register each (1 address byte, 1 data byte)" "$bytes" 6
+ok "the capture still runs" kill "$reader"
+wait "$reader" 2>/dev/null
+knob error 0
+
 # --- Resets of the chip's own ---------------------------------------------
 resets() {
 	dmesg | grep -c "em7180.*reset itself"
