@@ -22,6 +22,7 @@
 #include <linux/irqdomain.h>
 #include <linux/module.h>
 #include <linux/platform_device.h>
+#include <linux/property.h>
 #include <linux/sched.h>
 #include <linux/slab.h>
 
@@ -408,12 +409,27 @@ static void sim_chip_free(struct sentral_sim *sim)
 	kfree(sim);
 }
 
+/*
+ * The firmware the chip loads at power-on reports calibration status, flags
+ * and score where the application note says: the client says so, as a
+ * board's devicetree would. The node is shared, counted by the driver core.
+ */
+static const struct property_entry sim_em7180_props[] = {
+	PROPERTY_ENTRY_U32("pni,calibration-firmware", SIM_RAM_VERSION),
+	{ }
+};
+
+static const struct software_node sim_em7180_swnode = {
+	.properties = sim_em7180_props,
+};
+
 static struct i2c_client *sim_em7180_new(struct i2c_adapter *adap,
 					 struct sentral_sim *sim)
 {
 	struct i2c_board_info info = {
 		I2C_BOARD_INFO("em7180", SIM_I2C_ADDR),
 		.irq = sim->virq,
+		.swnode = &sim_em7180_swnode,
 	};
 
 	return i2c_new_client_device(adap, &info);

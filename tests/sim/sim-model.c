@@ -23,7 +23,6 @@
 #define SIM_PRODUCT_ID		0x80
 #define SIM_REVISION_ID		0x02
 #define SIM_ROM_VERSION		0x09e6	/* ROM "DI02" */
-#define SIM_RAM_VERSION		0x0d17
 
 /* SentralStatus bits, §1 and §3: 0x0b is "good" after reset */
 #define SIM_ST_EEPROM		BIT(0)
