@@ -13,6 +13,12 @@
  * driver keeps them set until the warm start is next read or written: a
  * flag then says "the chip learned something since the calibration was
  * last saved or restored", whoever read the registers and how often.
+ *
+ * Other firmware builds use these general-purpose registers for other
+ * things (Sony's packs a status and score of its own into 0x4D): the
+ * attributes exist only for firmware known to follow the application
+ * note's layout (struct em7180_data, @cal_fw), and read ENODATA while the
+ * chip runs another after a power loss.
  */
 
 #include <linux/bitfield.h>
@@ -117,7 +123,7 @@ ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 	int ret, milli;
 
 	scoped_guard(mutex, &data->lock) {
-		ret = em7180_cal_refresh(data);
+		ret = data->cal_reported ? em7180_cal_refresh(data) : -ENODATA;
 		cal = data->cal;
 	}
 	if (ret)

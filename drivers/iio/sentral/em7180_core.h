@@ -118,6 +118,13 @@ struct iio_trigger;
  * @revision_id: RevisionID read at probe
  * @rom_version: ROM version, read at probe
  * @ram_version: RAM (firmware) version, read at probe and after a power loss
+ * @cal_fw: RAM versions known to report calibration status, flags and score
+ *	    in 0x43, 0x44 and 0x4D-0x4E: the pni,calibration-firmware property,
+ *	    then the calibration_firmware module parameter
+ * @cal_fw_len: entries in @cal_fw
+ * @cal_attrs: the calibration attributes exist: @ram_version was in
+ *	       @cal_fw at probe
+ * @cal_reported: @ram_version is in @cal_fw
  * @ws_valid: @ws holds the last warm start written, read or saved at suspend
  * @ws: warm start to re-apply when the chip lost power during suspend
  * @accel_offset_valid: @accel_offset holds what the chip has
@@ -160,6 +167,10 @@ struct em7180_data {
 	u8 revision_id;
 	u16 rom_version;
 	u16 ram_version;
+	const u32 *cal_fw;
+	unsigned int cal_fw_len;
+	bool cal_attrs;
+	bool cal_reported;
 	bool ws_valid;
 	u8 ws[EM7180_WS_SIZE];
 	bool accel_offset_valid;
@@ -215,6 +226,7 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 int em7180_warmstart_read(struct em7180_data *data, u8 *buf);
 #endif
 int em7180_score_milli(u16 raw);
+bool em7180_fw_listed(u16 ram, const u32 *table, unsigned int len);
 
 /* Attribute addresses of em7180_cal_show() */
 enum em7180_cal_attr {

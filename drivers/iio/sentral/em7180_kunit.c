@@ -62,6 +62,7 @@ struct em7180_test {
 	struct device *dev;
 	struct em7180_emu emu;
 	struct em7180_data data;
+	u32 cal_fw;
 };
 
 static void emu_log(struct em7180_emu *emu, bool write, u8 reg,
@@ -226,6 +227,12 @@ static int em7180_test_init(struct kunit *test)
 
 	t->data.dev = t->dev;
 	t->data.regmap = map;
+	/* Probe found firmware known to report the calibration */
+	t->cal_fw = 0x0D17;
+	t->data.cal_fw = &t->cal_fw;
+	t->data.cal_fw_len = 1;
+	t->data.cal_attrs = true;
+	t->data.cal_reported = true;
 	mutex_init(&t->data.lock);
 	/* A transfer that cannot be ended asks for a recovery: none here */
 	INIT_DELAYED_WORK(&t->data.recover_work, emu_no_recovery);
@@ -1167,6 +1174,9 @@ static void em7180_test_pm_firmware_changed(struct kunit *test)
 	for (i = 1; i <= EM7180_WS_NUM_PARAMS; i++)
 		KUNIT_EXPECT_EQ_MSG(test, emu->params[i], 0U, "parameter %u", i);
 	KUNIT_EXPECT_FALSE(test, t->data.ws_valid);
+	/* not in the table: the attributes stay and read ENODATA */
+	KUNIT_EXPECT_FALSE(test, t->data.cal_reported);
+	KUNIT_EXPECT_TRUE(test, t->data.cal_attrs);
 	/* configured and running all the same */
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_HOST_CTRL], EM7180_HOST_CTRL_RUN);
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_MAG_RATE], 30);
@@ -1310,7 +1320,21 @@ static struct kunit_suite em7180_param_suite = {
 	.test_cases = em7180_param_cases,
 };
 
+/* The table of firmware known to report the calibration */
+static void em7180_test_fw_listed(struct kunit *test)
+{
+	static const u32 table[] = { 0x0D17, 0x10E01, 0x0E01 };
+
+	KUNIT_EXPECT_TRUE(test, em7180_fw_listed(0x0D17, table, 3));
+	KUNIT_EXPECT_TRUE(test, em7180_fw_listed(0x0E01, table, 3));
+	KUNIT_EXPECT_FALSE(test, em7180_fw_listed(0x0E02, table, 3));
+	/* a property value beyond 16 bits matches no RAM version */
+	KUNIT_EXPECT_FALSE(test, em7180_fw_listed(0x0E01, table, 2));
+	KUNIT_EXPECT_FALSE(test, em7180_fw_listed(0x0D17, NULL, 0));
+}
+
 static struct kunit_case em7180_format_cases[] = {
+	KUNIT_CASE(em7180_test_fw_listed),
 	KUNIT_CASE(em7180_test_float_table1),
 	KUNIT_CASE(em7180_test_float_lsb),
 	KUNIT_CASE(em7180_test_float_rounding),
@@ -1390,9 +1414,41 @@ static void em7180_test_cal_flags_until_saved(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, data->cal.flags, EM7180_CAL_FLAG_MAG_UPDATE);
 }
 
+/*
+ * Firmware not known to report the calibration: a transfer reads the echo
+ * alone, never 0x44, whose flag stays latched on the chip
+ */
+static void em7180_test_cal_unknown_firmware(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_data *data = &t->data;
+	unsigned int before, i;
+	u32 val;
+
+	guard(mutex)(&data->lock);
+	data->cal_reported = false;
+	t->emu.regs[EM7180_REG_CAL_FLAGS] = EM7180_CAL_FLAG_GBIAS_UPDATE;
+	t->emu.regs[EM7180_REG_CAL_STATUS] = 3;
+	t->emu.n_log = 0;
+	before = t->emu.transactions;
+	KUNIT_ASSERT_EQ(test, em7180_params_read(data, 1, 1, &val), 0);
+	KUNIT_EXPECT_EQ(test, t->emu.transactions - before, 6U);
+	for (i = 0; i < t->emu.n_log; i++)
+		if (!t->emu.log[i].write)
+			KUNIT_EXPECT_LT_MSG(test,
+					    t->emu.log[i].reg + t->emu.log[i].len,
+					    EM7180_REG_CAL_STATUS,
+					    "read %u", i);
+	KUNIT_EXPECT_EQ(test, t->emu.regs[EM7180_REG_CAL_FLAGS],
+			EM7180_CAL_FLAG_GBIAS_UPDATE);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, 0);
+	KUNIT_EXPECT_EQ(test, data->cal.status, 0);
+}
+
 static struct kunit_case em7180_cal_cases[] = {
 	KUNIT_CASE(em7180_test_cal_fold),
 	KUNIT_CASE(em7180_test_cal_flags_until_saved),
+	KUNIT_CASE(em7180_test_cal_unknown_firmware),
 	{ }
 };
 

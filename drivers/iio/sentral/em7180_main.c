@@ -649,6 +649,42 @@ int em7180_score_milli(u16 raw)
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_score_milli);
 
+/*
+ * The firmware (RAM image) decides what the general-purpose registers hold.
+ * No public source names the RAM version of a build with the application
+ * note's calibration registers: the board says which of its firmware do,
+ * in pni,calibration-firmware, and this parameter adds more.
+ */
+#define EM7180_CAL_FW_PROP		"pni,calibration-firmware"
+#define EM7180_CAL_FW_PARAM_MAX		8
+
+static unsigned short calibration_firmware[EM7180_CAL_FW_PARAM_MAX];
+static unsigned int calibration_firmware_count;
+module_param_array(calibration_firmware, ushort, &calibration_firmware_count,
+		   0444);
+MODULE_PARM_DESC(calibration_firmware,
+		 "RAM versions reporting calibration as the application note does (up to 8)");
+
+/**
+ * em7180_fw_listed() - is a firmware in a table of RAM versions?
+ * @ram: RAM version read from the chip
+ * @table: RAM versions, as the property and the parameter give them
+ * @len: entries in @table
+ *
+ * Return: true when @table holds @ram.
+ */
+bool em7180_fw_listed(u16 ram, const u32 *table, unsigned int len)
+{
+	unsigned int i;
+
+	for (i = 0; i < len; i++)
+		if (table[i] == ram)
+			return true;
+
+	return false;
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_fw_listed);
+
 enum em7180_id_attr {
 	EM7180_ID_PRODUCT,
 	EM7180_ID_REVISION,
@@ -932,9 +968,28 @@ static em7180_bin_attribute *em7180_bin_attrs[] = {
 	NULL
 };
 
+/*
+ * The IIO core copies this group, is_visible included, into the one that
+ * also holds the channel attributes; it is asked once, at registration.
+ */
+static umode_t em7180_attr_is_visible(struct kobject *kobj,
+				      struct attribute *attr, int n)
+{
+	struct em7180_data *data = iio_priv(dev_to_iio_dev(kobj_to_dev(kobj)));
+	struct device_attribute *dattr = container_of(attr,
+						      struct device_attribute,
+						      attr);
+
+	if (dattr->show == em7180_cal_show && !data->cal_attrs)
+		return 0;
+
+	return attr->mode;
+}
+
 static const struct attribute_group em7180_attr_group = {
 	.attrs = em7180_attrs,
 	.bin_attrs = em7180_bin_attrs,
+	.is_visible = em7180_attr_is_visible,
 };
 
 /*
@@ -1694,6 +1749,73 @@ static int em7180_read_versions(struct em7180_data *data)
 	return 0;
 }
 
+/* The property's RAM versions, then the module parameter's */
+static int em7180_cal_fw_read(struct em7180_data *data)
+{
+	struct device *dev = data->dev;
+	unsigned int i, n;
+	u32 *table;
+	int ret;
+
+	/* -EINVAL: no such property */
+	ret = device_property_count_u32(dev, EM7180_CAL_FW_PROP);
+	if (ret < 0 && ret != -EINVAL)
+		return dev_err_probe(dev, ret, "invalid %s\n",
+				     EM7180_CAL_FW_PROP);
+	n = max(ret, 0);
+
+	table = devm_kcalloc(dev, n + calibration_firmware_count,
+			     sizeof(*table), GFP_KERNEL);
+	if (!table)
+		return -ENOMEM;
+
+	if (n) {
+		ret = device_property_read_u32_array(dev, EM7180_CAL_FW_PROP,
+						     table, n);
+		if (ret)
+			return dev_err_probe(dev, ret, "cannot read %s\n",
+					     EM7180_CAL_FW_PROP);
+	}
+	for (i = 0; i < calibration_firmware_count; i++)
+		table[n + i] = calibration_firmware[i];
+
+	data->cal_fw = table;
+	data->cal_fw_len = n + calibration_firmware_count;
+	return 0;
+}
+
+/*
+ * Whether the firmware now running reports the calibration, said once per
+ * change: at probe when it does not, after a power loss when that changed.
+ * The attributes are made at probe only: a firmware that comes later does
+ * not add them, one that goes makes them read ENODATA.
+ */
+static void em7180_cal_fw_check(struct em7180_data *data, bool probe)
+{
+	bool reported = em7180_fw_listed(data->ram_version, data->cal_fw,
+					 data->cal_fw_len);
+
+	if (!probe && reported == data->cal_reported)
+		return;
+
+	data->cal_reported = reported;
+	if (probe) {
+		data->cal_attrs = reported;
+		if (!reported)
+			dev_info(data->dev,
+				 "firmware RAM 0x%04x is not known to report calibration status and score (0x43, 0x44, 0x4D-0x4E): those attributes are left out; add it to pni,calibration-firmware or em7180_core.calibration_firmware if it does\n",
+				 data->ram_version);
+	} else if (!reported) {
+		dev_info(data->dev,
+			 "firmware RAM 0x%04x is not known to report calibration status and score (0x43, 0x44, 0x4D-0x4E): those attributes read ENODATA while it runs\n",
+			 data->ram_version);
+	} else if (!data->cal_attrs) {
+		dev_info(data->dev,
+			 "firmware RAM 0x%04x reports calibration status and score: bind the driver again for those attributes\n",
+			 data->ram_version);
+	}
+}
+
 /**
  * em7180_core_probe() - probe an EM7180 behind any bus
  * @dev: the bus device
@@ -1751,6 +1873,11 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return dev_err_probe(dev, ret,
 				     "failed to read firmware versions\n");
+
+	ret = em7180_cal_fw_read(data);
+	if (ret)
+		return ret;
+	em7180_cal_fw_check(data, true);
 
 	ret = em7180_chip_configure(data, false);
 	if (ret)
@@ -1906,8 +2033,10 @@ static int em7180_chip_restore(struct em7180_data *data, bool *lost,
 
 	/* The firmware was uploaded again, maybe a different one */
 	ret = em7180_read_versions(data);
-	if (!ret)
+	if (!ret) {
+		em7180_cal_fw_check(data, false);
 		ret = em7180_chip_configure(data, true);
+	}
 	if (!ret)
 		ret = em7180_restore_calibration(data, *rom, *ram);
 

@@ -300,7 +300,9 @@ static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
  * reads another parameter before a first request it equals. The same read
  * takes in the calibration flags the chip latched, which belong to the
  * state the transfer saves or replaces (em7180_cal_saved()). A pointer
- * that stops at 0x3A returns one byte throughout: no flags then.
+ * that stops at 0x3A returns one byte throughout: no flags then. Firmware
+ * not known to keep the flags there may clear something else of its own
+ * by that read: the echo alone then.
  */
 static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 			      bool *started)
@@ -308,17 +310,18 @@ static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 	u8 regs[EM7180_ACK_CAL_LEN];
 	u8 *cal = &regs[EM7180_REG_CAL_STATUS - EM7180_REG_PARAM_ACK];
 	bool single = data->param_single;
+	bool flags = data->cal_reported;
 	u32 dummy;
 	int ret;
 
 	ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, regs,
-			       single ? 1 : sizeof(regs));
-	if (!ret && single)
+			       single || !flags ? 1 : sizeof(regs));
+	if (!ret && single && flags)
 		ret = regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, cal,
 				       EM7180_CAL_BLOCK_LEN);
 	if (ret)
 		return ret;
-	if (single || memchr_inv(regs, regs[0], sizeof(regs)))
+	if (flags && (single || memchr_inv(regs, regs[0], sizeof(regs))))
 		em7180_cal_update(&data->cal, cal);
 	if (regs[0] != first_req)
 		return 0;
