@@ -11,13 +11,20 @@
 static const char *const required[] = {
 	"calibration_data",
 	"product_id", "revision_id", "rom_version", "ram_version",
+	"in_accel_x_raw", "in_accel_y_raw", "in_accel_z_raw",
+	"in_accel_x_calibbias", "in_accel_y_calibbias", "in_accel_z_calibbias",
+	"in_magn_x_raw", "in_magn_y_raw", "in_magn_z_raw", "in_magn_scale",
+};
+
+/*
+ * The calibration state: all or none, as the driver makes them only for
+ * firmware known to report it (none: sw_cal_state.reported is false).
+ */
+static const char *const calibration[] = {
 	"in_magn_calibration_auto_status", "in_magn_calibration_score",
 	"in_magn_transient",
 	/* 1.1.0: flags kept until the next calibration_data transfer */
 	"in_anglvel_calibration_update", "in_magn_calibration_update",
-	"in_accel_x_raw", "in_accel_y_raw", "in_accel_z_raw",
-	"in_accel_x_calibbias", "in_accel_y_calibbias", "in_accel_z_calibbias",
-	"in_magn_x_raw", "in_magn_y_raw", "in_magn_z_raw", "in_magn_scale",
 };
 
 /* Attributes of earlier interfaces, gone since: a driver with one is older. */
@@ -32,11 +39,23 @@ static const struct {
 
 #define N(a) (sizeof(a) / sizeof((a)[0]))
 
+/* The first attribute of an earlier interface the device has, or -1. */
+static int older_attr(sw_abi_has_fn has, void *ctx)
+{
+	unsigned int i;
+
+	for (i = 0; i < N(older); i++)
+		if (has(older[i].attr, ctx))
+			return (int)i;
+	return -1;
+}
+
 int sw_abi_check(const char *name, const char *version, sw_abi_has_fn has,
 		 void *ctx, struct sw_err *e)
 {
-	const char *missing = NULL;
-	unsigned int i, n = 0;
+	const char *missing = NULL, *cal_missing = NULL;
+	unsigned int i, n = 0, cal_n = 0;
+	int old = older_attr(has, ctx);
 
 	for (i = 0; i < N(required); i++) {
 		if (has(required[i], ctx))
@@ -45,15 +64,30 @@ int sw_abi_check(const char *name, const char *version, sw_abi_has_fn has,
 			missing = required[i];
 		n++;
 	}
+	for (i = 0; i < N(calibration); i++) {
+		if (has(calibration[i], ctx))
+			continue;
+		if (!cal_missing)
+			cal_missing = calibration[i];
+		cal_n++;
+	}
+	/*
+	 * None of them is firmware that does not report the calibration;
+	 * some, or none on a driver of an earlier interface, is the driver.
+	 */
+	if (cal_n && (cal_n < N(calibration) || old >= 0)) {
+		if (!missing)
+			missing = cal_missing;
+		n += cal_n;
+	}
 	if (!missing)
 		return SW_EXIT_OK;
-	for (i = 0; i < N(older); i++)
-		if (has(older[i].attr, ctx))
-			return sw_err_set(e, SW_EXIT_DRIVER,
-					  "%s: the em7180 driver is older than sentral-warmstart %s: it has %s (%s) and lacks %s%s; install the em7180 driver of release %s (em7180-dkms) and reload it or reboot",
-					  name, version, older[i].attr,
-					  older[i].until, missing,
-					  n > 1 ? " and more" : "", version);
+	if (old >= 0)
+		return sw_err_set(e, SW_EXIT_DRIVER,
+				  "%s: the em7180 driver is older than sentral-warmstart %s: it has %s (%s) and lacks %s%s; install the em7180 driver of release %s (em7180-dkms) and reload it or reboot",
+				  name, version, older[old].attr,
+				  older[old].until, missing,
+				  n > 1 ? " and more" : "", version);
 	return sw_err_set(e, SW_EXIT_DRIVER,
 			  "%s: the em7180 driver lacks %s%s, which sentral-warmstart %s uses, and has no attribute of an earlier interface: it is newer than this tool; install the sentral-warmstart of the driver's release",
 			  name, missing, n > 1 ? " and more" : "", version);

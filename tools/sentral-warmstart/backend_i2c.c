@@ -307,6 +307,7 @@ static int i2c_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 		return interrupted(ib, e);
 	if (i2c_bus_read(ib->fd, ib->addr, REG_CAL_STATUS, r, sizeof(r)) < 0)
 		return bus_err(ib, "reading", REG_CAL_STATUS, e);
+	cs->reported = true;
 	cs->status = r[0] & 3;
 	cs->mag_transient = (r[0] >> 2) & 3;
 	cs->mag_cal_update = r[1] & 1;

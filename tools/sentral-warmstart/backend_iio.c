@@ -188,6 +188,29 @@ static int attr_read_flag(struct iio_be *ib, const char *attr, int *val,
 	return ret;
 }
 
+/*
+ * The driver makes the calibration attributes only for firmware known to
+ * report the calibration, and they read ENODATA while the chip runs another
+ * after a power loss: *yes false then.
+ */
+static int iio_cal_reported(struct iio_be *ib, bool *yes, struct sw_err *e)
+{
+	static const char attr[] = "in_magn_calibration_auto_status";
+	char path[PATH_MAX + 64], buf[64];
+	int err;
+
+	snprintf(path, sizeof(path), "%s/%s", ib->dir, attr);
+	*yes = true;
+	if (read_text(path, buf, sizeof(buf)) == 0)
+		return SW_EXIT_OK;
+	err = errno;
+	if (err == ENODATA || (err == ENOENT && access(ib->dir, F_OK) == 0)) {
+		*yes = false;
+		return SW_EXIT_OK;
+	}
+	return attr_err(ib, "reading", attr, err, e);
+}
+
 /* Tries at a status and a score from one chip read. */
 #define CAL_STATE_TRIES 3
 
@@ -204,6 +227,14 @@ static int iio_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 	int again, ret, tries;
 	char buf[64];
 
+	memset(cs, 0, sizeof(*cs));
+	ret = iio_cal_reported(ib, &cs->reported, e);
+	if (ret)
+		return ret;
+	if (!cs->reported) {
+		cs->score_raw = 0xffff;
+		return SW_EXIT_OK;
+	}
 	for (tries = 1;; tries++) {
 		ret = attr_read_int(ib, "in_magn_calibration_auto_status",
 				    &cs->status, e);

@@ -154,6 +154,10 @@ static int wait_gyro_bias(struct sw_backend *b, struct cal_run *r,
 		ret = b->ops->cal_state(b, &r->cs, e);
 		if (ret)
 			return ret;
+		if (!r->cs.reported)
+			return sw_err_not_reported(b,
+						   "the calibration cannot be followed",
+						   e);
 		if (!first && r->cs.gyro_bias_update == 1)
 			break;
 		if (env->now_ms(env->clk) >= r->deadline)
@@ -176,6 +180,9 @@ static int poll_chip(struct sw_backend *b, struct cal_run *r,
 
 	if (ret)
 		return ret;
+	if (!cs.reported)
+		return sw_err_not_reported(b, "the calibration cannot be followed",
+					   e);
 	/*
 	 * A glitched read (a score below 0 %, a status out of range) would
 	 * look better than any calibration: skipped, the next look decides.

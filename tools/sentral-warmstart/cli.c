@@ -134,7 +134,8 @@ void sw_usage(FILE *f)
 	      "  71 out of memory   72 state directory missing   74 I/O or bus error\n"
 	      "  75 calibration incomplete, timed out or unverified\n"
 	      "  77 refused: owner, mode or symbolic link of a file or directory\n"
-	      "  78 the em7180 driver is older or newer than this tool\n"
+	      "  78 the em7180 driver is older or newer than this tool, or does not\n"
+	      "     report the calibration of the chip's firmware (save, watch, calibrate)\n"
 	      "\n"
 	      "See sentral-warmstart(8).\n", f);
 }

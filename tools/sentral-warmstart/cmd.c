@@ -458,6 +458,30 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 	return ret;
 }
 
+/* The RAM version for a message: "0x0d17", or "unknown". */
+static void ram_str(struct sw_backend *b, char *buf, size_t len)
+{
+	struct sw_chip_info ci;
+	struct sw_err ie;
+
+	sw_err_clear(&ie);
+	if (b->ops->chip_info(b, &ci, &ie) == SW_EXIT_OK)
+		snprintf(buf, len, "0x%04x", ci.ram_version);
+	else
+		snprintf(buf, len, "unknown");
+}
+
+int sw_err_not_reported(struct sw_backend *b, const char *what,
+			struct sw_err *e)
+{
+	char ram[16];
+
+	ram_str(b, ram, sizeof(ram));
+	return sw_err_set(e, SW_EXIT_DRIVER,
+			  "%s: the em7180 driver does not report the calibration status and score of this firmware (RAM %s): %s; if the firmware does report them (in registers 0x43, 0x44 and 0x4D-0x4E), name its RAM version in the device's pni,calibration-firmware property or em7180_core.calibration_firmware",
+			  b->name, ram, what);
+}
+
 int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
 		struct sw_env *env, bool *saved, struct sw_err *e)
 {
@@ -467,6 +491,9 @@ int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
 	int i, ret;
 
 	ret = b->ops->cal_state(b, &before, e);
+	if (!ret && !before.reported && !o->force)
+		return sw_err_not_reported(b, "not saving (save --force saves anyway)",
+					   e);
 	ret = ret ? ret : b->ops->read_blob(b, blob, e);
 	ret = ret ? ret : b->ops->cal_state(b, &after, e);
 	if (ret)
@@ -596,6 +623,12 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 		ret = b->ops->cal_state(b, &cs, e);
 		if (ret)
 			return ret;
+		if (!cs.reported) {
+			sw_note(env, "restored %s calibration from %s (saved with status %d, %.3f%%); the driver does not report the calibration status of this firmware (RAM 0x%04x): not waiting for it",
+				b->name, path, f.cal_status,
+				sw_score_pct(f.score_raw), chip.ram_version);
+			return SW_EXIT_OK;
+		}
 		if (cs.status == 3 || f.cal_status != 3)
 			break;
 		if (env->now_ms(env->clk) - start >= RESTORE_SETTLE_MS)
@@ -683,10 +716,13 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 			fprintf(out, ",\"product_id\":%u,\"revision_id\":%u,\"rom_version\":%u,\"ram_version\":%u",
 				chip.product_id, chip.revision_id,
 				chip.rom_version, chip.ram_version);
-		fprintf(out, ",\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"mag_transient\":%d,\"gyro_bias_update\":%d,\"mag_calibration_update\":%d,\"file\":",
-			cs.status, sw_score_pct(cs.score_raw), cs.score_raw,
-			cs.mag_transient, cs.gyro_bias_update,
-			cs.mag_cal_update);
+		if (cs.reported)
+			fprintf(out, ",\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"mag_transient\":%d,\"gyro_bias_update\":%d,\"mag_calibration_update\":%d,\"file\":",
+				cs.status, sw_score_pct(cs.score_raw),
+				cs.score_raw, cs.mag_transient,
+				cs.gyro_bias_update, cs.mag_cal_update);
+		else
+			fprintf(out, ",\"calibration_status\":null,\"calibration_score\":null,\"calibration_score_raw\":null,\"mag_transient\":null,\"gyro_bias_update\":null,\"mag_calibration_update\":null,\"file\":");
 		sw_json_str(out, path);
 		if (have_file)
 			fprintf(out, ",\"saved\":{\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"saved_at\":%llu}}\n",
@@ -708,12 +744,21 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 			chip.ram_version);
 	else
 		fprintf(out, "chip:                unknown (%s)\n", cerr.msg);
-	fprintf(out, "calibration status:  %d%s\n", cs.status,
-		cs.status == 3 ? " (complete)" : "");
-	fprintf(out, "calibration score:   %.3f%%\n", sw_score_pct(cs.score_raw));
-	fprintf(out, "mag transient:       %d\n", cs.mag_transient);
-	fprintf(out, "gyro bias update:    %d\n", cs.gyro_bias_update);
-	fprintf(out, "mag cal update:      %d\n", cs.mag_cal_update);
+	if (!cs.reported) {
+		if (have_chip)
+			fprintf(out, "calibration status:  not reported by this firmware (RAM 0x%04x)\n",
+				chip.ram_version);
+		else
+			fprintf(out, "calibration status:  not reported by this firmware\n");
+	} else {
+		fprintf(out, "calibration status:  %d%s\n", cs.status,
+			cs.status == 3 ? " (complete)" : "");
+		fprintf(out, "calibration score:   %.3f%%\n",
+			sw_score_pct(cs.score_raw));
+		fprintf(out, "mag transient:       %d\n", cs.mag_transient);
+		fprintf(out, "gyro bias update:    %d\n", cs.gyro_bias_update);
+		fprintf(out, "mag cal update:      %d\n", cs.mag_cal_update);
+	}
 	if (have_file)
 		fprintf(out, "saved file:          %s (status %d, score %.3f%%, saved %s)\n",
 			path, f.cal_status, sw_score_pct(f.score_raw), when);

@@ -69,10 +69,20 @@ int sw_cmd_watch(struct sw_backend *b, const struct sw_opts *o,
 		 struct sw_env *env, struct sw_err *e);
 
 /*
+ * The driver does not report the calibration of the chip's firmware
+ * (sw_cal_state.reported false): SW_EXIT_DRIVER, with a message naming
+ * the RAM version, what is not done (what) and how to add the firmware.
+ */
+int sw_err_not_reported(struct sw_backend *b, const char *what,
+			struct sw_err *e);
+
+/*
  * save: read the state, the blob and the state again, and save by the
  * policy; *saved (may be NULL) says whether a file was written. Writers
  * of one file take turns (sw_file_lock_open()), waiting SW_LOCK_WAIT_MS
- * at most.
+ * at most. Without --force, nothing is saved when the driver does not
+ * report the calibration (sw_err_not_reported()): the policy would have
+ * nothing to judge it by.
  */
 int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
 		struct sw_env *env, bool *saved, struct sw_err *e);

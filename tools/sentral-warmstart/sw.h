@@ -99,6 +99,12 @@ struct sw_chip_info {
 
 /* Calibration state as the seed app note defines it. */
 struct sw_cal_state {
+	/*
+	 * false: the driver does not report it for the chip's firmware (not
+	 * known to keep it in these registers); the fields below then hold
+	 * status 0 and the worst score, 100 % (raw 0xffff).
+	 */
+	bool reported;
 	int status;		/* reg 0x43 bits 1:0, 3 = complete */
 	uint16_t score_raw;	/* regs 0x4D | 0x4E << 8 */
 	int mag_transient;	/* reg 0x43 bits 3:2 */

@@ -42,6 +42,11 @@ static int watch_step(struct watch *w, struct sw_err *e)
 
 	sw_err_clear(&se);
 	ret = w->b->ops->cal_state(w->b, &cs, &se);
+	/* Nothing to judge a save by: said once, and the watch ends */
+	if (!ret && !cs.reported)
+		return sw_err_not_reported(w->b,
+					   "not watching it (save --force saves anyway)",
+					   e);
 	ret = ret ? ret : sw_save_wanted(w->b, w->o, &cs, &yes, why,
 					 sizeof(why), &se);
 	if (ret == SW_EXIT_DEVICE)

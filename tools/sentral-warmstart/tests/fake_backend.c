@@ -196,6 +196,7 @@ void fake_init(struct fake_be *f, struct fake_clock *clk)
 	f->chip.revision_id = 0x02;
 	f->chip.rom_version = 0x09e6;
 	f->chip.ram_version = 0x0c05;
+	f->cs.reported = true;
 	f->cs.status = 3;
 	f->cs.score_raw = sw_score_raw(2.5);
 	f->status_after_write = 3;

@@ -118,6 +118,50 @@ static void test_each_required(void **state)
 	}
 }
 
+/*
+ * Firmware not known to report the calibration: none of the five
+ * calibration attributes, and that is no driver mismatch.
+ */
+static const char *const calibration[] = {
+	"in_magn_calibration_auto_status", "in_magn_calibration_score",
+	"in_magn_transient", "in_anglvel_calibration_update",
+	"in_magn_calibration_update", NULL,
+};
+
+static bool has_but_calibration(const char *attr, void *ctx)
+{
+	const char *const *n;
+
+	for (n = calibration; *n; n++)
+		if (!strcmp(*n, attr))
+			return false;
+	return has(attr, ctx);
+}
+
+static void test_no_calibration(void **state)
+{
+	struct dir d = { current, NULL };
+	struct dir old = { counters, NULL };
+	struct sw_err e;
+
+	(void)state;
+	sw_err_clear(&e);
+	assert_int_equal(sw_abi_check("iio:device0", "1.1.0",
+				      has_but_calibration, &d, &e),
+			 SW_EXIT_OK);
+	/* one of them missing is still the driver */
+	d.without = "in_magn_transient";
+	assert_int_equal(sw_abi_check("iio:device0", "1.1.0", has, &d, &e),
+			 SW_EXIT_DRIVER);
+	assert_non_null(strstr(e.msg, "lacks in_magn_transient,"));
+	/* and so is a driver of an earlier interface without them */
+	sw_err_clear(&e);
+	assert_int_equal(sw_abi_check("iio:device0", "1.1.0",
+				      has_but_calibration, &old, &e),
+			 SW_EXIT_DRIVER);
+	assert_non_null(strstr(e.msg, "is older than"));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -125,6 +169,7 @@ int main(void)
 		cmocka_unit_test(test_older),
 		cmocka_unit_test(test_newer),
 		cmocka_unit_test(test_each_required),
+		cmocka_unit_test(test_no_calibration),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -537,6 +537,62 @@ static void test_status(void **state)
 	assert_non_null(strstr(out_text(c), "\"saved\":{\"calibration_status\":3,"));
 }
 
+static int watch(struct ctx *c);
+
+/* Firmware whose calibration the driver does not report (no attributes) */
+static void not_reported(struct ctx *c)
+{
+	c->fb.cs.reported = false;
+	c->fb.cs.status = 0;
+	c->fb.cs.score_raw = 0xffff;
+	c->fb.cs.mag_transient = 0;
+	c->fb.cs.gyro_bias_update = 0;
+	c->fb.cs.mag_cal_update = 0;
+}
+
+static void test_not_reported(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	/* a good file saved while the firmware reported it */
+	assert_int_equal(save(c), SW_EXIT_OK);
+	not_reported(c);
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "calibration status:  not reported by this firmware (RAM 0x0c05)\n"));
+	assert_null(strstr(out_text(c), "calibration score:"));
+	c->o.json = true;
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), ",\"calibration_status\":null,\"calibration_score\":null,\"calibration_score_raw\":null,\"mag_transient\":null,\"gyro_bias_update\":null,\"mag_calibration_update\":null,\"file\":"));
+	c->o.json = false;
+
+	/* restore writes the blob and does not wait for status 3 */
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 1);
+	assert_non_null(strstr(out_text(c), "does not report the calibration status of this firmware (RAM 0x0c05): not waiting for it"));
+
+	/* save and watch have nothing to judge by: 78 */
+	not_reported(c);	/* the fake's write set a status */
+	c->fb.reads = 0;
+	assert_int_equal(save(c), SW_EXIT_DRIVER);
+	assert_non_null(strstr(c->e.msg, "does not report the calibration status and score of this firmware (RAM 0x0c05): not saving (save --force saves anyway)"));
+	assert_int_equal(c->fb.reads, 0);
+	c->o.poll_s = 30;
+	c->o.interval_s = 300;
+	assert_int_equal(watch(c), SW_EXIT_DRIVER);
+	assert_non_null(strstr(c->e.msg, "not watching it"));
+	assert_int_equal(c->fb.reads, 0);
+
+	/* --force saves, with status 0 and the worst score */
+	c->o.force = true;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.cal_status, 0);
+	assert_int_equal(f.score_raw, 0xffff);
+}
+
 static void test_show(void **state)
 {
 	struct ctx *c = *state;
@@ -1369,6 +1425,7 @@ int main(void)
 		T(test_restore_missing_state_dir),
 		T(test_migrate_legacy_key),
 		T(test_status),
+		T(test_not_reported),
 		T(test_show),
 		T(test_calibrate),
 		T(test_calibrate_timeout_keeps_best),
