@@ -75,7 +75,11 @@ is "the driver shows the new firmware" "$(cat "$DEV/ram_version")" 0x0bad
 like "and logs what it skipped" "$(dmesg | grep em7180 | tail -n 5)" \
 	"firmware changed .*not restored"
 is "the old calibration was not written: status 0" \
-	"$(cat "$DEV/in_magn_calibration_auto_status")" 0
+	"$(dbg_get state cal_status)" 0
+# 0x0bad is not in the client's pni,calibration-firmware
+nok "the calibration attributes read no data meanwhile" \
+	cat "$DEV/in_magn_calibration_auto_status"
+like "logged once" "$(dmesg | grep -c 'RAM 0x0bad is not known to report')" '^1$'
 is "nor the offsets" "$(dbg_get params 27)" 0x00000000
 is "calibbias reads what the chip holds" "$(cat "$DEV/in_accel_x_calibbias")" 0
 ok "the algorithm runs" chip_idle
