@@ -129,6 +129,10 @@ struct iio_trigger;
  * @xfer_stuck: that transfer: AlgorithmControl bit 7 may still be set
  * @resets: such resets recovered since probe
  * @recovered_at: jiffies at the last recovery
+ * @recover_ret: the result of the last recovery
+ * @watch_work: while a buffer runs, a check that the chip still runs, for
+ *		a reset that raised no interrupt
+ * @watch_scans: @scans when @watch_work last ran
  * @orientation: mount matrix from firmware
  * @timestamp: time of the last data-ready interrupt, written by the hard handler
  * @scan_ts: time of the interrupt of the scan being captured
@@ -170,6 +174,9 @@ struct em7180_data {
 	bool xfer_stuck;
 	unsigned int resets;
 	unsigned long recovered_at;
+	int recover_ret;
+	struct delayed_work watch_work;
+	unsigned int watch_scans;
 	struct iio_mount_matrix orientation;
 	s64 timestamp;
 	s64 scan_ts;
