@@ -9,7 +9,8 @@
 # SensorStatus pair, decoded; resets of the chip's own are recovered out of
 # the interrupt thread, a burst of them once, and at most once a second;
 # one that raised no INT is found by the next calibration read or, while a
-# buffer runs, within a second; debugfs shows the recoveries.
+# buffer runs, within a second, or by a raw read; debugfs shows the
+# recoveries.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/lib/em7180.sh"
 
@@ -154,7 +155,24 @@ if mkdir /sys/kernel/config/iio/triggers/hrtimer/watch 2>/dev/null; then
 else
 	ok "hrtimer trigger available" false
 fi
+
+# No capture and no calibration read: a raw read a second or more after the
+# driver last looked at SentralStatus looks first.
+r4=$(resets)
+knob chip_reset 1
+sleep 1.1
+cat "$DEV/in_accel_x_raw" >/dev/null
+ok "a reset without INT is recovered after a raw read" \
+	wait_for 3 sh -c "[ \$(dmesg | grep -c 'em7180.*reset itself') -gt $r4 ]"
 knob reset_int 1
+cat "$DEV/in_accel_x_raw" >/dev/null
+knob stats 0
+cat "$DEV/in_accel_x_raw" "$DEV/in_accel_y_raw" >/dev/null
+is "two raw reads within a second: one transaction each" "$(dbg_get stats transactions)" 2
+sleep 1.1
+knob stats 0
+cat "$DEV/in_accel_x_raw" >/dev/null
+is "a raw read a second later: SentralStatus first" "$(dbg_get stats transactions)" 2
 
 # What recovery did, readable in debugfs
 REC=/sys/kernel/debug/iio/${DEV##*/}/recovery

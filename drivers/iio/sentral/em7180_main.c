@@ -488,15 +488,35 @@ int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_write_calibbias);
 
+/*
+ * A reset that raised no interrupt leaves the data registers as they were:
+ * a raw read a second or more after the last look at SentralStatus takes
+ * one first.
+ */
+static void em7180_check_status(struct em7180_data *data)
+{
+	unsigned int status;
+
+	lockdep_assert_held(&data->lock);
+
+	if (time_before(jiffies, data->status_at +
+			msecs_to_jiffies(EM7180_WATCH_MS)))
+		return;
+	if (!regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, &status))
+		em7180_status_seen(data, status);
+}
+
 static int em7180_read_raw_vec(struct em7180_data *data,
 			       const struct iio_chan_spec *chan, int *val)
 {
 	__le16 raw;
 	int ret;
 
-	scoped_guard(mutex, &data->lock)
+	scoped_guard(mutex, &data->lock) {
+		em7180_check_status(data);
 		ret = regmap_bulk_read(data->regmap, chan->address, &raw,
 				       sizeof(raw));
+	}
 	if (ret)
 		return ret;
 
@@ -509,9 +529,11 @@ static int em7180_read_quat(struct em7180_data *data, int *vals)
 	u8 raw[16];
 	int i, ret;
 
-	scoped_guard(mutex, &data->lock)
+	scoped_guard(mutex, &data->lock) {
+		em7180_check_status(data);
 		ret = regmap_bulk_read(data->regmap, EM7180_REG_QX, raw,
 				       sizeof(raw));
+	}
 	if (ret)
 		return ret;
 
@@ -1150,6 +1172,23 @@ void em7180_recover_schedule(struct em7180_data *data)
 	schedule_delayed_work(&data->recover_work, delay);
 }
 
+/**
+ * em7180_status_seen() - recover soon if SentralStatus shows a reset
+ * @data: driver state, with @data->lock held
+ * @status: SentralStatus just read
+ *
+ * A chip that reset waits in standby for its host, whether or not it
+ * raised an interrupt.
+ */
+void em7180_status_seen(struct em7180_data *data, unsigned int status)
+{
+	lockdep_assert_held(&data->lock);
+
+	data->status_at = jiffies;
+	if (status & EM7180_SENTRAL_STANDBY)
+		em7180_recover_schedule(data);
+}
+
 static void em7180_recover_flush(void *arg)
 {
 	struct em7180_data *data = arg;
@@ -1205,9 +1244,8 @@ static void em7180_watch_work(struct work_struct *work)
 	if (!READ_ONCE(data->pace_event) || scans == data->watch_scans) {
 		guard(mutex)(&data->lock);
 		if (!regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
-				 &status) &&
-		    (status & EM7180_SENTRAL_STANDBY))
-			em7180_recover_schedule(data);
+				 &status))
+			em7180_status_seen(data, status);
 	}
 	data->watch_scans = scans;
 	em7180_watch_schedule(data);
