@@ -50,10 +50,14 @@ is "debugfs is 0700 root" "$(perm /sys/kernel/debug)" "700 root root"
 nok "the udev rule sets no device node mode" \
 	grep -qE '^[^#]*(MODE|OWNER|GROUP)' "$SENTRAL_ROOT"/tools/sentral-warmstart/udev/*.rules*
 
-# Register access for debugging (IIO's direct_reg_access): root's alone
+# Register access for debugging (IIO's direct_reg_access) and the
+# recoveries from resets: root's alone
 reg_access=/sys/kernel/debug/iio/$(basename "$DEV")/direct_reg_access
-is "the driver's one debugfs file is register access, 0644 root" \
-	"$(ls "$(dirname "$reg_access")") $(perm "$reg_access")" "direct_reg_access 644 root root"
+recovery=/sys/kernel/debug/iio/$(basename "$DEV")/recovery
+is "the driver's debugfs files: register access and recoveries" \
+	"$(ls "$(dirname "$reg_access")" | tr '\n' ' ')" "direct_reg_access recovery "
+is "register access: 0644 root" "$(perm "$reg_access")" "644 root root"
+is "recoveries: 0400 root" "$(perm "$recovery")" "400 root root"
 nok "nobody cannot read registers through it" as_nobody cat "$reg_access"
 # The IIO core makes every info attribute root-writable; only
 # sampling_frequency and calibbias take a write, within their range.

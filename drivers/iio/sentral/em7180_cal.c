@@ -91,8 +91,7 @@ static int em7180_cal_refresh(struct em7180_data *data)
 	if (ret)
 		return ret;
 
-	if (regs[0] & EM7180_SENTRAL_STANDBY)
-		em7180_recover_schedule(data);
+	em7180_status_seen(data, regs[0]);
 	em7180_cal_update(&data->cal, cal);
 	data->cal.read_at = jiffies;
 	return 0;

@@ -136,6 +136,11 @@ struct iio_trigger;
  * @xfer_stuck: that transfer: AlgorithmControl bit 7 may still be set
  * @resets: such resets recovered since probe
  * @recovered_at: jiffies at the last recovery
+ * @recover_ret: the result of the last recovery
+ * @watch_work: while a buffer runs, a check that the chip still runs, for
+ *		a reset that raised no interrupt
+ * @watch_scans: @scans when @watch_work last ran
+ * @status_at: jiffies of the last SentralStatus read
  * @orientation: mount matrix from firmware
  * @timestamp: time of the last data-ready interrupt, written by the hard handler
  * @scan_ts: time of the interrupt of the scan being captured
@@ -181,6 +186,10 @@ struct em7180_data {
 	bool xfer_stuck;
 	unsigned int resets;
 	unsigned long recovered_at;
+	int recover_ret;
+	struct delayed_work watch_work;
+	unsigned int watch_scans;
+	unsigned long status_at;
 	struct iio_mount_matrix orientation;
 	s64 timestamp;
 	s64 scan_ts;
@@ -242,5 +251,6 @@ ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 void em7180_cal_update(struct em7180_cal *cal, const u8 *regs);
 void em7180_cal_saved(struct em7180_data *data);
 void em7180_recover_schedule(struct em7180_data *data);
+void em7180_status_seen(struct em7180_data *data, unsigned int status);
 
 #endif /* _EM7180_CORE_H_ */

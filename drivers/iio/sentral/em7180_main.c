@@ -16,6 +16,7 @@
 #include <linux/bitmap.h>
 #include <linux/bitops.h>
 #include <linux/cleanup.h>
+#include <linux/debugfs.h>
 #include <linux/delay.h>
 #include <linux/device.h>
 #include <linux/errno.h>
@@ -32,6 +33,7 @@
 #include <linux/property.h>
 #include <linux/regmap.h>
 #include <linux/regulator/consumer.h>
+#include <linux/seq_file.h>
 #include <linux/string.h>
 #include <linux/sysfs.h>
 #include <linux/types.h>
@@ -119,6 +121,11 @@
  */
 #define EM7180_RECOVER_DELAY_MS		50
 #define EM7180_RECOVER_INTERVAL_MS	1000
+/*
+ * A reset may raise no interrupt (the reset cleared EnableEvents): while a
+ * buffer runs and no scan came for this long, SentralStatus is checked.
+ */
+#define EM7180_WATCH_MS			1000
 /* Power-on reset; then the chip may not acknowledge for a while */
 #define EM7180_POWER_ON_US		10000
 #define EM7180_READY_POLL_US		5000
@@ -481,15 +488,35 @@ int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_write_calibbias);
 
+/*
+ * A reset that raised no interrupt leaves the data registers as they were:
+ * a raw read a second or more after the last look at SentralStatus takes
+ * one first.
+ */
+static void em7180_check_status(struct em7180_data *data)
+{
+	unsigned int status;
+
+	lockdep_assert_held(&data->lock);
+
+	if (time_before(jiffies, data->status_at +
+			msecs_to_jiffies(EM7180_WATCH_MS)))
+		return;
+	if (!regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, &status))
+		em7180_status_seen(data, status);
+}
+
 static int em7180_read_raw_vec(struct em7180_data *data,
 			       const struct iio_chan_spec *chan, int *val)
 {
 	__le16 raw;
 	int ret;
 
-	scoped_guard(mutex, &data->lock)
+	scoped_guard(mutex, &data->lock) {
+		em7180_check_status(data);
 		ret = regmap_bulk_read(data->regmap, chan->address, &raw,
 				       sizeof(raw));
+	}
 	if (ret)
 		return ret;
 
@@ -502,9 +529,11 @@ static int em7180_read_quat(struct em7180_data *data, int *vals)
 	u8 raw[16];
 	int i, ret;
 
-	scoped_guard(mutex, &data->lock)
+	scoped_guard(mutex, &data->lock) {
+		em7180_check_status(data);
 		ret = regmap_bulk_read(data->regmap, EM7180_REG_QX, raw,
 				       sizeof(raw));
+	}
 	if (ret)
 		return ret;
 
@@ -1198,6 +1227,23 @@ void em7180_recover_schedule(struct em7180_data *data)
 	schedule_delayed_work(&data->recover_work, delay);
 }
 
+/**
+ * em7180_status_seen() - recover soon if SentralStatus shows a reset
+ * @data: driver state, with @data->lock held
+ * @status: SentralStatus just read
+ *
+ * A chip that reset waits in standby for its host, whether or not it
+ * raised an interrupt.
+ */
+void em7180_status_seen(struct em7180_data *data, unsigned int status)
+{
+	lockdep_assert_held(&data->lock);
+
+	data->status_at = jiffies;
+	if (status & EM7180_SENTRAL_STANDBY)
+		em7180_recover_schedule(data);
+}
+
 static void em7180_recover_flush(void *arg)
 {
 	struct em7180_data *data = arg;
@@ -1230,6 +1276,73 @@ static void em7180_recover_work(struct work_struct *work)
 	}
 	em7180_chip_recover(data);
 }
+
+static void em7180_watch_schedule(struct em7180_data *data)
+{
+	/* Freezable: no check of a chip that system sleep put in standby */
+	queue_delayed_work(system_freezable_wq, &data->watch_work,
+			   msecs_to_jiffies(EM7180_WATCH_MS));
+}
+
+/*
+ * With the chip's own trigger, a scan every period shows that the chip
+ * runs; with another trigger the registers would only repeat: checked
+ * each time.
+ */
+static void em7180_watch_work(struct work_struct *work)
+{
+	struct em7180_data *data = container_of(to_delayed_work(work),
+						struct em7180_data,
+						watch_work);
+	unsigned int scans = READ_ONCE(data->scans), status;
+
+	if (!READ_ONCE(data->pace_event) || scans == data->watch_scans) {
+		guard(mutex)(&data->lock);
+		if (!regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
+				 &status))
+			em7180_status_seen(data, status);
+	}
+	data->watch_scans = scans;
+	em7180_watch_schedule(data);
+}
+
+static int em7180_buffer_postenable(struct iio_dev *indio_dev)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+
+	data->watch_scans = READ_ONCE(data->scans);
+	em7180_watch_schedule(data);
+	return 0;
+}
+
+static int em7180_buffer_predisable(struct iio_dev *indio_dev)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+
+	cancel_delayed_work_sync(&data->watch_work);
+	return 0;
+}
+
+static const struct iio_buffer_setup_ops em7180_buffer_ops = {
+	.postenable = em7180_buffer_postenable,
+	.predisable = em7180_buffer_predisable,
+};
+
+/* What recovery did, for a user who wonders why the data paused */
+static int em7180_recovery_show(struct seq_file *m, void *unused)
+{
+	struct em7180_data *data = m->private;
+
+	guard(mutex)(&data->lock);
+	seq_printf(m, "resets %u\n", data->resets);
+	seq_printf(m, "pending %d\n", delayed_work_pending(&data->recover_work));
+	if (data->resets)
+		seq_printf(m, "last %u ms ago, result %d\n",
+			   jiffies_to_msecs(jiffies - data->recovered_at),
+			   data->recover_ret);
+	return 0;
+}
+DEFINE_SHOW_ATTRIBUTE(em7180_recovery);
 
 /* ErrorRegister values that the reference hosts decode */
 static const char *em7180_error_name(unsigned int err)
@@ -1906,6 +2019,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	 * that the chip is left running (em7180_unbind_action())
 	 */
 	INIT_DELAYED_WORK(&data->recover_work, em7180_recover_work);
+	INIT_DELAYED_WORK(&data->watch_work, em7180_watch_work);
 	ret = devm_add_action_or_reset(dev, em7180_recover_flush, data);
 	if (ret)
 		return ret;
@@ -1918,11 +2032,18 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 
 	ret = devm_iio_triggered_buffer_setup(dev, indio_dev,
 					      em7180_pollfunc_store,
-					      em7180_trigger_handler, NULL);
+					      em7180_trigger_handler,
+					      &em7180_buffer_ops);
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to set up buffer\n");
 
-	return devm_iio_device_register(dev, indio_dev);
+	ret = devm_iio_device_register(dev, indio_dev);
+	if (ret)
+		return ret;
+
+	debugfs_create_file("recovery", 0400, iio_get_debugfs_dentry(indio_dev),
+			    data, &em7180_recovery_fops);
+	return 0;
 }
 EXPORT_SYMBOL_NS_GPL(em7180_core_probe, "IIO_EM7180");
 
@@ -2061,6 +2182,7 @@ static int em7180_chip_recover(struct em7180_data *data)
 		 data->resets);
 	ret = em7180_chip_restore(data, &lost, &rom, &ram);
 	data->recovered_at = jiffies;
+	data->recover_ret = ret;
 	if (ret)
 		dev_err(data->dev, "cannot restore the chip after its reset: %d\n",
 			ret);
