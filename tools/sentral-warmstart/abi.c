@@ -50,27 +50,33 @@ static int older_attr(sw_abi_has_fn has, void *ctx)
 	return -1;
 }
 
+/* How many of @list the device lacks; *first: the first of them, or NULL. */
+static unsigned int count_missing(const char *const *list, unsigned int len,
+				  sw_abi_has_fn has, void *ctx,
+				  const char **first)
+{
+	unsigned int i, n = 0;
+
+	*first = NULL;
+	for (i = 0; i < len; i++) {
+		if (has(list[i], ctx))
+			continue;
+		if (!*first)
+			*first = list[i];
+		n++;
+	}
+	return n;
+}
+
 int sw_abi_check(const char *name, const char *version, sw_abi_has_fn has,
 		 void *ctx, struct sw_err *e)
 {
-	const char *missing = NULL, *cal_missing = NULL;
-	unsigned int i, n = 0, cal_n = 0;
+	const char *missing, *cal_missing;
+	unsigned int n = count_missing(required, N(required), has, ctx, &missing);
+	unsigned int cal_n = count_missing(calibration, N(calibration), has,
+					   ctx, &cal_missing);
 	int old = older_attr(has, ctx);
 
-	for (i = 0; i < N(required); i++) {
-		if (has(required[i], ctx))
-			continue;
-		if (!missing)
-			missing = required[i];
-		n++;
-	}
-	for (i = 0; i < N(calibration); i++) {
-		if (has(calibration[i], ctx))
-			continue;
-		if (!cal_missing)
-			cal_missing = calibration[i];
-		cal_n++;
-	}
 	/*
 	 * None of them is firmware that does not report the calibration;
 	 * some, or none on a driver of an earlier interface, is the driver.
