@@ -3,7 +3,7 @@
 #
 # Calibration status, score and flags only on firmware known to report
 # them: the simulator's client names its RAM version (0x0d17) in
-# pni,calibration-firmware, as a board's devicetree would. Another RAM
+# emmicro,calibration-firmware, as a board's devicetree would. Another RAM
 # version binds without the five calibration attributes, logs why once per
 # binding, never reads the general-purpose registers, and still streams and
 # transfers calibration_data; the module parameter calibration_firmware adds
@@ -45,7 +45,7 @@ is "ram_version reads 0x0e01" "$(cat "$DEV/ram_version")" 0x0e01
 is "none of the five calibration attributes" "$(cal_attrs)" 0
 is "said once at probe" "$(dmesg | grep -c "$MSG")" 1
 like "and how to add it" "$(dmesg | grep "$MSG")" \
-	'add it to pni,calibration-firmware or em7180_core.calibration_firmware'
+	'add it to emmicro,calibration-firmware or em7180_core.calibration_firmware'
 for a in product_id revision_id rom_version ram_version calibration_data \
 	in_accel_x_calibbias; do
 	ok "$a still there" test -e "$DEV/$a"

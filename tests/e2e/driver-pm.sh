@@ -76,7 +76,7 @@ like "and logs what it skipped" "$(dmesg | grep em7180 | tail -n 5)" \
 	"firmware changed .*not restored"
 is "the old calibration was not written: status 0" \
 	"$(dbg_get state cal_status)" 0
-# 0x0bad is not in the client's pni,calibration-firmware
+# 0x0bad is not in the client's emmicro,calibration-firmware
 nok "the calibration attributes read no data meanwhile" \
 	cat "$DEV/in_magn_calibration_auto_status"
 like "logged once" "$(dmesg | grep -c 'RAM 0x0bad is not known to report')" '^1$'

@@ -415,7 +415,7 @@ static void sim_chip_free(struct sentral_sim *sim)
  * board's devicetree would. The node is shared, counted by the driver core.
  */
 static const struct property_entry sim_em7180_props[] = {
-	PROPERTY_ENTRY_U32("pni,calibration-firmware", SIM_RAM_VERSION),
+	PROPERTY_ENTRY_U32("emmicro,calibration-firmware", SIM_RAM_VERSION),
 	{ }
 };
 

@@ -478,7 +478,7 @@ int sw_err_not_reported(struct sw_backend *b, const char *what,
 
 	ram_str(b, ram, sizeof(ram));
 	return sw_err_set(e, SW_EXIT_DRIVER,
-			  "%s: the em7180 driver does not report the calibration status and score of this firmware (RAM %s): %s; if the firmware does report them (in registers 0x43, 0x44 and 0x4D-0x4E), name its RAM version in the device's pni,calibration-firmware property or em7180_core.calibration_firmware",
+			  "%s: the em7180 driver does not report the calibration status and score of this firmware (RAM %s): %s; if the firmware does report them (in registers 0x43, 0x44 and 0x4D-0x4E), name its RAM version in the device's emmicro,calibration-firmware property or em7180_core.calibration_firmware",
 			  b->name, ram, what);
 }
 

@@ -119,7 +119,7 @@ struct iio_trigger;
  * @rom_version: ROM version, read at probe
  * @ram_version: RAM (firmware) version, read at probe and after a power loss
  * @cal_fw: RAM versions known to report calibration status, flags and score
- *	    in 0x43, 0x44 and 0x4D-0x4E: the pni,calibration-firmware property,
+ *	    in 0x43, 0x44 and 0x4D-0x4E: the emmicro,calibration-firmware property,
  *	    then the calibration_firmware module parameter
  * @cal_fw_len: entries in @cal_fw
  * @cal_attrs: the calibration attributes exist: @ram_version was in

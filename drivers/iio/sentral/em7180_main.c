@@ -682,9 +682,9 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_score_milli);
  * The firmware (RAM image) decides what the general-purpose registers hold.
  * No public source names the RAM version of a build with the application
  * note's calibration registers: the board says which of its firmware do,
- * in pni,calibration-firmware, and this parameter adds more.
+ * in emmicro,calibration-firmware, and this parameter adds more.
  */
-#define EM7180_CAL_FW_PROP		"pni,calibration-firmware"
+#define EM7180_CAL_FW_PROP		"emmicro,calibration-firmware"
 #define EM7180_CAL_FW_PARAM_MAX		8
 
 static unsigned short calibration_firmware[EM7180_CAL_FW_PARAM_MAX];
@@ -1916,7 +1916,7 @@ static void em7180_cal_fw_check(struct em7180_data *data, bool probe)
 		data->cal_attrs = reported;
 		if (!reported)
 			dev_info(data->dev,
-				 "firmware RAM 0x%04x is not known to report calibration status and score (0x43, 0x44, 0x4D-0x4E): those attributes are left out; add it to pni,calibration-firmware or em7180_core.calibration_firmware if it does\n",
+				 "firmware RAM 0x%04x is not known to report calibration status and score (0x43, 0x44, 0x4D-0x4E): those attributes are left out; add it to emmicro,calibration-firmware or em7180_core.calibration_firmware if it does\n",
 				 data->ram_version);
 	} else if (!reported) {
 		dev_info(data->dev,
