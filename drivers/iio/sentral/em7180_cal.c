@@ -1,28 +1,16 @@
 // SPDX-License-Identifier: GPL-2.0-only
 /*
- * PNI SENtral / EM7180: calibration state
+ * PNI SENtral / EM7180: calibration status, score and update flags
  *
- * Registers 0x43 (CalStatus, MagTransient), 0x44 (update flags) and
- * 0x4D/0x4E (score) are read in one 12-byte burst. The chip raises no
- * interrupt when they change: userspace polls the attributes. A burst
- * serves every attribute read within EM7180_CAL_MAX_AGE_MS of it, as hwmon
- * drivers cache their readings, so that a reader of all five costs one bus
- * transaction and sees status and score from the same read.
- *
- * The two flags of 0x44 latch an update each and clear when read. The
- * driver keeps them set until the warm start is next read or written: a
- * flag then says "the chip learned something since the calibration was
- * last saved or restored", whoever read the registers and how often.
- *
- * Other firmware builds use these general-purpose registers for other
- * things (Sony's packs a status and score of its own into 0x4D): the
- * attributes exist only for firmware known to follow the application
- * note's layout (struct em7180_data, @cal_fw), and read ENODATA while the
- * chip runs another after a power loss.
+ * Registers 0x43 (status), 0x44 (update flags, clear on read) and 0x4D-0x4E
+ * (score) are read in one burst that serves every attribute read for
+ * EM7180_CAL_MAX_AGE_MS, as hwmon drivers cache readings: a reader of all
+ * five costs one transaction. The chip raises no interrupt when they change.
+ * They exist only for firmware known to keep the calibration there
+ * (em7180_firmware.c).
  */
 
-#include <linux/bitfield.h>
-#include <linux/bits.h>
+#include <linux/bitops.h>
 #include <linux/device.h>
 #include <linux/jiffies.h>
 #include <linux/math.h>
@@ -41,30 +29,39 @@
 #define EM7180_CAL_MAX_AGE_MS	500
 
 /**
+ * em7180_score_milli() - the calibration score in thousandths of a percent
+ * @raw: CalScore register pair (0x4D | 0x4E << 8)
+ *
+ * The application note defines the score as (raw - 32768) / 32768 * 100 %.
+ *
+ * Return: the score in 0.001 %, rounded to nearest, -100000 to 99997.
+ */
+int em7180_score_milli(u16 raw)
+{
+	/* 100000 / 32768 = 3125 / 1024; |product| < 2^27 */
+	return DIV_ROUND_CLOSEST(((int)raw - 32768) * 3125, 1024);
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_score_milli);
+
+/**
  * em7180_cal_update() - fold one read of the calibration block into @cal
  * @cal: the state last read
  * @regs: registers 0x43..0x4E as read in one burst
  */
 void em7180_cal_update(struct em7180_cal *cal, const u8 *regs)
 {
-	u8 flags = regs[EM7180_REG_CAL_FLAGS - EM7180_REG_CAL_STATUS];
-
 	cal->status = regs[0];
 	cal->score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE -
 					      EM7180_REG_CAL_STATUS]);
-	cal->flags |= flags & (EM7180_CAL_FLAG_MAG_UPDATE |
-			       EM7180_CAL_FLAG_GBIAS_UPDATE);
+	cal->flags |= regs[EM7180_REG_CAL_FLAGS - EM7180_REG_CAL_STATUS] &
+		      (EM7180_CAL_FLAG_MAG_UPDATE | EM7180_CAL_FLAG_GBIAS_UPDATE);
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_update);
 
 /*
- * Read the block unless the last read is younger than EM7180_CAL_MAX_AGE_MS;
- * a failed read leaves nothing to serve later.
- *
- * The same read starts at SentralStatus: a chip that reset itself waits
- * in standby for its host, and a board without an INT line, or firmware
- * that raises none for the reset, would never tell. On a chip whose
- * register pointer stops at 0x3A, SentralStatus is a read of its own.
+ * The read starts at SentralStatus: a chip that reset itself without an
+ * interrupt waits in standby for its host. A register pointer that stops
+ * at 0x3A needs a read of its own for it.
  */
 static int em7180_cal_refresh(struct em7180_data *data)
 {
@@ -101,10 +98,8 @@ static int em7180_cal_refresh(struct em7180_data *data)
  * em7180_cal_saved() - the warm start was read or written: no update since
  * @data: driver state, with @data->lock held
  *
- * The transfer took in the flags the chip had latched (em7180_param_ack()):
- * those updates belong to the state it saved or replaced. A restore
- * changes status and score at once: the next attribute read reads the
- * chip again.
+ * The flags the transfer read belong to the state it saved or replaced; a
+ * restore changes status and score at once, so the next read goes to the chip.
  */
 void em7180_cal_saved(struct em7180_data *data)
 {
@@ -118,6 +113,7 @@ ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 			char *buf)
 {
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
+	unsigned long mask = to_iio_dev_attr(attr)->address;
 	struct em7180_cal cal;
 	int ret, milli;
 
@@ -128,23 +124,11 @@ ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 	if (ret)
 		return ret;
 
-	switch (to_iio_dev_attr(attr)->address) {
-	case EM7180_CAL_ATTR_STATUS:
+	if (mask)
 		return sysfs_emit(buf, "%lu\n",
-				  FIELD_GET(EM7180_CAL_STATUS_MASK, cal.status));
-	case EM7180_CAL_ATTR_SCORE:
-		milli = em7180_score_milli(cal.score);
-		return sysfs_emit(buf, "%s%d.%03d\n", milli < 0 ? "-" : "",
-				  abs(milli) / 1000, abs(milli) % 1000);
-	case EM7180_CAL_ATTR_TRANSIENT:
-		return sysfs_emit(buf, "%lu\n",
-				  FIELD_GET(EM7180_CAL_MAG_TRANSIENT_MASK,
-					    cal.status));
-	case EM7180_CAL_ATTR_GYRO_UPDATE:
-		return sysfs_emit(buf, "%d\n",
-				  !!(cal.flags & EM7180_CAL_FLAG_GBIAS_UPDATE));
-	default:
-		return sysfs_emit(buf, "%d\n",
-				  !!(cal.flags & EM7180_CAL_FLAG_MAG_UPDATE));
-	}
+				  ((cal.flags << 8 | cal.status) & mask) >> __ffs(mask));
+
+	milli = em7180_score_milli(cal.score);
+	return sysfs_emit(buf, "%s%d.%03d\n", milli < 0 ? "-" : "",
+			  abs(milli) / 1000, abs(milli) % 1000);
 }

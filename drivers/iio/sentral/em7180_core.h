@@ -1,11 +1,9 @@
 /* SPDX-License-Identifier: GPL-2.0-only */
 /*
  * PNI SENtral / EM Microelectronic EM7180 sensor-fusion hub: what the core
- * files and the KUnit suite share
- *
- * Register and protocol facts follow EM Microelectronic's GPL generic host
- * driver (em718x_registers.h, em718x_core.c), the Sony em718x driver and
- * PNI's warm start application note.
+ * files and the KUnit suite share. Register facts follow EM's GPL host
+ * driver (em718x_registers.h), the Sony em718x driver and PNI's warm start
+ * application note.
  */
 #ifndef _EM7180_CORE_H_
 #define _EM7180_CORE_H_
@@ -20,7 +18,6 @@
 #include <linux/workqueue.h>
 
 #define EM7180_REG_QX			0x00	/* float32 x, y, z, w */
-#define EM7180_REG_GTIME		0x28
 #define EM7180_REG_QRATE_DIVISOR	0x32
 #define EM7180_REG_ENABLE_EVENTS	0x33
 #define EM7180_REG_HOST_CTRL		0x34
@@ -29,9 +26,10 @@
 #define EM7180_REG_PARAM_ACK		0x3A
 #define EM7180_REG_SAVED_PARAM		0x3B	/* 0x3B..0x3E, u32 LE */
 #define EM7180_REG_CAL_STATUS		0x43
-#define EM7180_REG_CAL_FLAGS		0x44	/* latched, may clear on read */
+#define EM7180_REG_CAL_FLAGS		0x44	/* latched, clear on read */
 #define EM7180_REG_CAL_SCORE		0x4D	/* 0x4D..0x4E, u16 LE */
 #define EM7180_CAL_BLOCK_LEN		(EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS)
+#define EM7180_REG_ERROR		0x50
 #define EM7180_REG_ALGO_CTRL		0x54
 #define EM7180_REG_MAG_RATE		0x55
 #define EM7180_REG_ACCEL_RATE		0x56
@@ -40,16 +38,15 @@
 #define EM7180_REG_PARAM_REQ		0x64
 #define EM7180_REG_ROM_VERSION		0x70
 #define EM7180_REG_RAM_VERSION		0x72
+#define EM7180_REG_RESET_REQ		0x9B
 
 #define EM7180_HOST_CTRL_RUN		BIT(0)
-
 #define EM7180_EVENT_ERROR		BIT(1)
-
 #define EM7180_SENTRAL_UPLOAD_DONE	BIT(1)
 #define EM7180_SENTRAL_STANDBY		BIT(3)
-
 #define EM7180_ALGO_CTRL_STANDBY	BIT(0)
 #define EM7180_ALGO_CTRL_PARAM_XFER	BIT(7)
+#define EM7180_RESET_REQ_RESET		BIT(0)
 
 #define EM7180_CAL_STATUS_MASK		GENMASK(1, 0)
 #define EM7180_CAL_MAG_TRANSIENT_MASK	GENMASK(3, 2)
@@ -63,107 +60,28 @@
 #define EM7180_WS_NUM_PARAMS		35
 #define EM7180_WS_SIZE			(EM7180_WS_NUM_PARAMS * 4)
 
-enum em7180_scan {
-	EM7180_SCAN_QUAT,
-	EM7180_SCAN_MAGN_X,
-	EM7180_SCAN_MAGN_Y,
-	EM7180_SCAN_MAGN_Z,
-	EM7180_SCAN_ACCEL_X,
-	EM7180_SCAN_ACCEL_Y,
-	EM7180_SCAN_ACCEL_Z,
-	EM7180_SCAN_ANGLVEL_X,
-	EM7180_SCAN_ANGLVEL_Y,
-	EM7180_SCAN_ANGLVEL_Z,
-	EM7180_SCAN_TIMESTAMP,
-};
+/* Quaternion, magnetometer, accelerometer, gyroscope, each with its TIME */
+#define EM7180_BURST_LEN		0x2A
 
-/*
- * One burst covers quaternion, magnetometer, accelerometer and gyroscope,
- * each followed by its TIME register
- */
-#define EM7180_BURST_LEN		(EM7180_REG_GTIME + 2 - EM7180_REG_QX)
-
-/**
- * struct em7180_cal - calibration state as last read from the chip
- * @status: register 0x43, CalStatus in bits 1:0, MagTransient in 3:2
- * @score: raw score, 0x4D | 0x4E << 8
- * @flags: update flags of 0x44 read since the warm start was last
- *	   read or written
- * @valid: the fields above come from a successful read
- * @read_at: jiffies of that read
- */
+/* Calibration block as last read: 0x43, 0x4D | 0x4E << 8, 0x44 */
 struct em7180_cal {
 	u8 status;
 	u16 score;
-	u8 flags;
+	u8 flags;		/* latched until the warm start is read or written */
 	bool valid;
-	unsigned long read_at;
+	unsigned long read_at;	/* jiffies */
 };
 
+struct iio_buffer_setup_ops;
 struct iio_trigger;
 
-/**
- * struct em7180_data - driver state
- * @dev: parent (bus) device
- * @regmap: register map of the chip
- * @trig: data-ready trigger, NULL without an interrupt line
- * @lock: serialises every chip access and the fields below
- * @irq: interrupt of the INT pin, 0 when not wired
- * @ack_wait_us: wait before the first ParamAcknowledge poll, 0 until learned
- * @ack_min_us: the shortest time an acknowledge was found at after an
- *	        early poll, 0 until one was early
- * @param_single: the chip takes parameters one register per transaction
- * @cal: calibration state last read
- * @product_id: ProductID read at probe
- * @revision_id: RevisionID read at probe
- * @rom_version: ROM version, read at probe
- * @ram_version: RAM (firmware) version, read at probe and after a power loss
- * @cal_fw: RAM versions known to report calibration status, flags and score
- *	    in 0x43, 0x44 and 0x4D-0x4E: the emmicro,calibration-firmware property,
- *	    then the calibration_firmware module parameter
- * @cal_fw_len: entries in @cal_fw
- * @cal_attrs: the calibration attributes exist: @ram_version was in
- *	       @cal_fw at probe
- * @cal_reported: @ram_version is in @cal_fw
- * @ws_valid: @ws holds the last warm start written, read or saved at suspend
- * @ws: warm start to re-apply when the chip lost power during suspend
- * @accel_offset_valid: @accel_offset holds what the chip has
- * @accel_offset: parameters 27..29, the accelerometer offsets in float g
- * @pace_event: the EventStatus bit whose interrupt paces scans, 0 when off
- * @last_error: SensorStatus << 8 | ErrorRegister last reported
- * @recover_work: recovery from a reset of the chip's own, or from a
- *		  parameter transfer that could not be ended
- * @xfer_stuck: that transfer: AlgorithmControl bit 7 may still be set
- * @resets: such resets recovered since probe
- * @recovered_at: jiffies at the last recovery
- * @recover_ret: the result of the last recovery
- * @watch_work: while a buffer runs, a check that the chip still runs, for
- *		a reset that raised no interrupt
- * @watch_scans: @scans when @watch_work last ran
- * @status_at: jiffies of the last SentralStatus read
- * @orientation: mount matrix from firmware
- * @timestamp: time of the last data-ready interrupt, written by the hard handler
- * @scan_ts: time of the interrupt of the scan being captured
- * @scan_fresh: that scan was read and is no repeat: push it
- * @xfer_seq: parameter transfers ended, counted before the algorithm resumes
- * @irq_seq: @xfer_seq at the last data-ready interrupt
- * @poll_seq: @xfer_seq at the last poll of another device's trigger
- * @scans: data-ready interrupts served while the trigger ran
- * @scan_seq: @xfer_seq at the last of them
- * @scan_wq: woken after each of them
- * @burst: raw sensor registers of one scan
- * @last_burst: the registers of the scan pushed last
- * @last_start: first register of @last_burst
- * @last_len: size of @last_burst, 0 when nothing was pushed yet
- * @scan: the channels of one scan, packed in scan order, and room for the
- *	  timestamp that iio_push_to_buffers_with_ts() adds
- */
 struct em7180_data {
 	struct device *dev;
 	struct regmap *regmap;
-	struct iio_trigger *trig;
+	struct iio_trigger *trig;	/* NULL without an INT line */
 	struct mutex lock;	/* chip access and every field below */
 	int irq;
+	/* Parameter transfer: learned acknowledge wait, register order */
 	unsigned int ack_wait_us;
 	unsigned int ack_min_us;
 	bool param_single;
@@ -172,25 +90,29 @@ struct em7180_data {
 	u8 revision_id;
 	u16 rom_version;
 	u16 ram_version;
+	/* RAM versions whose 0x43, 0x44, 0x4D-0x4E hold the calibration */
 	const u32 *cal_fw;
 	unsigned int cal_fw_len;
-	bool cal_attrs;
-	bool cal_reported;
+	bool cal_attrs;		/* the attributes exist (firmware at probe) */
+	bool cal_reported;	/* the firmware running reports them */
+	/* Warm start to re-apply after a power loss or a reset */
 	bool ws_valid;
 	u8 ws[EM7180_WS_SIZE];
+	/* Parameters 27..29, as the chip has them */
 	bool accel_offset_valid;
 	u32 accel_offset[3];
-	unsigned int pace_event;
-	unsigned int last_error;
+	unsigned int pace_event;	/* the EventStatus bit pacing scans */
+	unsigned int last_error;	/* SensorStatus << 8 | ErrorRegister */
 	struct delayed_work recover_work;
-	bool xfer_stuck;
+	bool xfer_stuck;		/* AlgorithmControl bit 7 may be set */
 	unsigned int resets;
 	unsigned long recovered_at;
 	int recover_ret;
 	struct delayed_work watch_work;
 	unsigned int watch_scans;
-	unsigned long status_at;
+	unsigned long status_at;	/* last SentralStatus read */
 	struct iio_mount_matrix orientation;
+	/* Scans and the parameter transfers they must not straddle */
 	s64 timestamp;
 	s64 scan_ts;
 	bool scan_fresh;
@@ -202,8 +124,7 @@ struct em7180_data {
 	wait_queue_head_t scan_wq;
 	u8 burst[EM7180_BURST_LEN];
 	u8 last_burst[EM7180_BURST_LEN];
-	unsigned int last_start;
-	unsigned int last_len;
+	bool last_valid;
 	struct {
 		s16 chans[4 + 9];	/* quaternion Q14, then le16 words */
 		aligned_s64 ts;
@@ -222,6 +143,8 @@ s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits);
 
 int em7180_chip_suspend(struct em7180_data *data);
 int em7180_chip_resume(struct em7180_data *data);
+int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
+			u16 *ram);
 int em7180_read_calibbias(struct em7180_data *data, unsigned int axis,
 			  int *val);
 int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
@@ -234,23 +157,25 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 #if IS_ENABLED(CONFIG_KUNIT)
 int em7180_warmstart_read(struct em7180_data *data, u8 *buf);
 #endif
-int em7180_score_milli(u16 raw);
-bool em7180_fw_listed(u16 ram, const u32 *table, unsigned int len);
 
-/* Attribute addresses of em7180_cal_show() */
-enum em7180_cal_attr {
-	EM7180_CAL_ATTR_STATUS,
-	EM7180_CAL_ATTR_SCORE,
-	EM7180_CAL_ATTR_TRANSIENT,
-	EM7180_CAL_ATTR_GYRO_UPDATE,
-	EM7180_CAL_ATTR_MAG_UPDATE,
-};
-
+/* Attribute address: a mask of flags << 8 | status, 0 for the score */
 ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 			char *buf);
+int em7180_score_milli(u16 raw);
+bool em7180_fw_listed(u16 ram, const u32 *table, unsigned int len);
+int em7180_cal_fw_read(struct em7180_data *data);
+void em7180_cal_fw_check(struct em7180_data *data, bool probe);
 void em7180_cal_update(struct em7180_cal *cal, const u8 *regs);
 void em7180_cal_saved(struct em7180_data *data);
-void em7180_recover_schedule(struct em7180_data *data);
+
+/* em7180_health.c: resets, recovery and error reports */
+extern const struct iio_buffer_setup_ops em7180_buffer_ops;
+int em7180_health_init(struct em7180_data *data);
+void em7180_health_debugfs(struct iio_dev *indio_dev);
 void em7180_status_seen(struct em7180_data *data, unsigned int status);
+void em7180_check_status(struct em7180_data *data);
+void em7180_recover_schedule(struct em7180_data *data);
+int em7180_chip_recover(struct em7180_data *data);
+void em7180_report_error(struct em7180_data *data);
 
 #endif /* _EM7180_CORE_H_ */

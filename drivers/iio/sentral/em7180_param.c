@@ -1,15 +1,10 @@
 // SPDX-License-Identifier: GPL-2.0-only
 /*
- * EM7180 parameter transfer and IEEE-754 single precision helpers.
- *
- * Protocol (EM's generic host driver, em718x_core.c, and the Sony em718x
- * driver): with AlgorithmControl bit 7 set, a write of
- * ParamRequest = n (read) or n | 0x80 (write, value in LoadParamByte0..3)
- * is served by the firmware, which then echoes the request in
- * ParamAcknowledge and, for a read, puts the value in SavedParamByte0..3.
- * ParamRequest = 0 and AlgorithmControl bit 7 clear end the procedure.
- *
- * The kernel may not use the FPU: floats are handled as their bit patterns.
+ * EM7180 parameter transfer (EM's em718x_core.c, Sony's em718x driver): with
+ * AlgorithmControl bit 7 set, ParamRequest = n (read) or n | 0x80 (write,
+ * value in LoadParam) is echoed in ParamAcknowledge once served, a read's
+ * value in SavedParam. ParamRequest = 0 and bit 7 clear end it.
+ * No FPU in the kernel: floats are handled as bit patterns.
  */
 
 #include <linux/bits.h>
@@ -36,10 +31,7 @@
 #define EM7180_F32_BIAS			127
 #define EM7180_F32_FRAC_BITS		23
 
-/*
- * No document gives the firmware's acknowledge latency; EM's host driver
- * polls every 10 ms for up to 1 s.
- */
+/* No document gives the acknowledge latency; EM's driver allows 1 s */
 #define EM7180_ACK_TIMEOUT_US		1000000U
 #define EM7180_ACK_WAIT_INIT_US		1000U
 #define EM7180_ACK_WAIT_MAX_US		100000U
@@ -69,9 +61,8 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_is_finite);
  * em7180_lsb_to_float_g() - accelerometer offset in LSB to float32 in g
  * @lsb: offset in accelerometer LSB (1 LSB = 0.000488 g)
  *
- * Computes the float32 nearest to @lsb * 0.000488 (ties to even) with
- * integer arithmetic only, as the PNI application note's Table 1 expects:
- * -47 gives 0xBCBBE447.
+ * Nearest float32 to @lsb * 0.000488, ties to even, as the application
+ * note's Table 1 expects: -47 gives 0xBCBBE447.
  *
  * Return: the IEEE-754 single precision bit pattern.
  */
@@ -157,9 +148,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_g_to_lsb);
  * @bits: IEEE-754 single precision bit pattern
  * @frac_bits: number of fraction bits of the result, 0..30
  *
- * Used for the quaternion components, whose magnitude is at most 1.
- * Rounds to nearest, halves away from zero; saturates to the s32 range,
- * which also covers ±Inf; NaN gives 0.
+ * Rounds halves away from zero; saturates (±Inf too); NaN gives 0.
  *
  * Return: round(value * 2^frac_bits), saturated.
  */
@@ -194,15 +183,11 @@ s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits)
 EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
 
 /*
- * Poll ParamAcknowledge until it echoes @req, @len bytes from 0x3A: 5 for
- * a read in one burst, which returns SavedParam too, else 1.
- *
- * The first poll comes after data->ack_wait_us; one too early is followed
- * by another after an eighth of the time spent so far, and the wait
- * becomes the time it found the acknowledge at. A poll in time shrinks the
- * wait by 1/8 while it is 1/8 or more above the shortest such time seen:
- * a steady firmware costs one poll per parameter, and a wait raised by a
- * slow moment comes back down.
+ * Poll ParamAcknowledge (@len bytes: 5 take SavedParam along) until it
+ * echoes @req. The first poll waits the latency learned so far, so that a
+ * steady firmware costs one poll per parameter; an early poll is followed
+ * by others at 1/8 of the time spent, and sets the wait; a poll in time
+ * shrinks it by 1/8, not below the shortest latency seen.
  */
 static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 			    size_t len)
@@ -242,12 +227,10 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 }
 
 /*
- * One request and its acknowledge. No reference host crosses 0x63->0x64
- * or 0x3A->0x3B in one transfer; the driver does (the value and the
- * request in one write, the echo and the value in one read) until the
- * chip shows it does not follow, then writes and reads as those hosts do
- * (data->param_single). A read whose value bytes all equal the echo is
- * what a register pointer that stops at 0x3A returns, and is checked.
+ * One request and its acknowledge, in one burst each way until the chip
+ * shows its register pointer stops at 0x3A or 0x63 (no reference host
+ * crosses them): then one register per transfer (data->param_single). A
+ * value whose bytes all equal the echo is what such a pointer returns.
  */
 static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
 				u32 *out, bool start)
@@ -294,15 +277,11 @@ static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
 }
 
 /*
- * ParamAcknowledge keeps the echo of the last request served, through the
- * end of a transfer on some firmware, and an echo equal to the first
- * request would pass for its acknowledge: a transfer reads it first, and
- * reads another parameter before a first request it equals. The same read
- * takes in the calibration flags the chip latched, which belong to the
- * state the transfer saves or replaces (em7180_cal_saved()). A pointer
- * that stops at 0x3A returns one byte throughout: no flags then. Firmware
- * not known to keep the flags there may clear something else of its own
- * by that read: the echo alone then.
+ * Some firmware keeps the last echo after a transfer, which would pass for
+ * the acknowledge of an equal first request: read it, and request another
+ * parameter first if so. The read takes the latched calibration flags
+ * along (they belong to the state saved or replaced), on firmware known
+ * to keep them there.
  */
 static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 			      bool *started)
@@ -332,10 +311,7 @@ static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 				    EM7180_PARAM_MAX + 1, 0, &dummy, true);
 }
 
-/*
- * End the transfer and let the algorithm run, on every path: explicit
- * values, each write retried once.
- */
+/* End the transfer on every path, each write retried once */
 static int em7180_param_end(struct em7180_data *data)
 {
 	int ret, ret2;
@@ -343,16 +319,12 @@ static int em7180_param_end(struct em7180_data *data)
 	ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
 	if (ret)
 		ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
-	/*
-	 * A data-ready interrupt from before this point may find newer data
-	 * than it announced once the algorithm runs again: its scan is not
-	 * pushed (em7180_trigger_handler()).
-	 */
+	/* A scan announced before the algorithm resumes is not pushed */
 	WRITE_ONCE(data->xfer_seq, data->xfer_seq + 1);
 	ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
 	if (ret2)
 		ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
-	/* Bit 7 may hold fusion paused: try again later, then reset */
+	/* Bit 7 would keep fusion paused: try again later, then reset */
 	if (ret2) {
 		data->xfer_stuck = true;
 		em7180_recover_schedule(data);
@@ -385,10 +357,8 @@ static int em7180_param_batch(struct em7180_data *data, unsigned int first,
 }
 
 /*
- * A first write in one burst that is never acknowledged may be a chip
- * whose pointer stops at 0x63: the request then never reached
- * ParamRequest. The transfer runs again as the reference hosts write, and
- * that order is kept if it works.
+ * A burst write never acknowledged may not have reached ParamRequest (a
+ * pointer that stops at 0x63): try once as the reference hosts write.
  */
 static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
 			     unsigned int count, const u32 *in, u32 *out)
@@ -422,10 +392,8 @@ static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
  * @count: number of parameters
  * @vals: where to store the raw 32-bit values
  *
- * Costs one request and normally one acknowledge poll per parameter, two
- * transactions to start and two to end (2 * @count + 4); a chip that needs
- * the reference hosts' order costs one more per parameter. The transfer is
- * ended and the algorithm left running on every path.
+ * Costs 2 * @count + 4 transactions (one more per parameter for a chip
+ * that needs one register per transfer); the algorithm runs on return.
  *
  * Return: 0, -EINVAL for a bad range, -ETIMEDOUT when a parameter is not
  * acknowledged within 1 s, or the bus error.
@@ -444,8 +412,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_params_read);
  * @count: number of parameters
  * @vals: raw 32-bit values to write
  *
- * Costs as em7180_params_read(). The transfer is ended and the algorithm
- * left running on every path.
+ * Costs as em7180_params_read(); the algorithm runs on return.
  *
  * Return: 0, -EINVAL for a bad range, -ETIMEDOUT when a parameter is not
  * acknowledged within 1 s, or the bus error.
