@@ -72,7 +72,6 @@ struct em7180_cal {
 	unsigned long read_at;	/* jiffies */
 };
 
-struct iio_buffer_setup_ops;
 struct iio_trigger;
 
 struct em7180_data {
