@@ -102,6 +102,16 @@ ok "restore wrote the blob" [ "$(dbg_get stats params_served)" -ge 35 ]
 
 # The module parameter adds 0x0e01 to the table
 ok "unload em7180_i2c and em7180_core" modprobe -d "$MOD" -r em7180_i2c em7180_core
+
+# A value that is no 16-bit RAM version, or more than 8 of them: the module
+# does not load with part of the list, and the log names the parameter
+for bad in 0x0e01,zz 0x10000 1,2,3,4,5,6,7,8,9; do
+	nok "calibration_firmware=$bad: the module does not load" \
+		modprobe -d "$MOD" em7180_core "calibration_firmware=$bad"
+	nok "  and is not there" test -d /sys/module/em7180_core
+	like "  the log names the parameter" "$(dmesg | tail -3)" \
+		"invalid for parameter .calibration_firmware"
+done
 ok "load em7180_core calibration_firmware=0x0e01,0x1234" \
 	modprobe -d "$MOD" em7180_core calibration_firmware=0x0e01,0x1234
 ok "load em7180_i2c" modprobe -d "$MOD" em7180_i2c
