@@ -60,25 +60,39 @@ knob error 0
 # accelerometer runs at 1000 Hz, so its EventStatus bit is set whenever
 # the chip is read. An Error raised just after a magnetometer sample is
 # answered with three one-byte reads (EventStatus, ErrorRegister,
-# SensorStatus) and no read of the data registers.
-mag_read() {
-	dbg_get samples mag_read
+# SensorStatus) and no read of the data registers. The counters are taken
+# in one read, and a window in which a magnetometer sample came (a loaded
+# host stretches it towards the next one) is measured again.
+mag_made() {
+	dbg_get samples mag
 }
 echo 1000 >"$DEV/in_accel_sampling_frequency"
 echo 1 >"$DEV/in_magn_sampling_frequency"
 iio_readdev -T 20000 -b 1 -s 0 em7180 magn_x magn_y magn_z >/dev/null &
 reader=$!
-m0=$(mag_read)
-ok "the magnetometer is captured" wait_for 3 sh -c "[ \$(awk '\$1 == \"mag_read\" { print \$2 }' $SIM_DBG/samples) -gt $m0 ]"
-knob stats 0
-knob error 0x14
-sleep 0.3
-tx=$(dbg_get stats transactions) bytes=$(dbg_get stats bytes)
-is "an Error between two samples: three reads" "$tx" 3
-is "of one register each (1 address byte, 1 data byte)" "$bytes" 6
+clean=0
+for try in 1 2 3; do
+	m0=$(mag_made)
+	wait_for 3 sh -c "[ \$(awk '\$1 == \"mag\" { print \$2 }' $SIM_DBG/samples) -gt $m0 ]" || break
+	m1=$(mag_made)
+	knob stats 0
+	knob error 0x14
+	sleep 0.3
+	counters=$(cat "$SIM_DBG/stats")
+	m2=$(mag_made)
+	knob error 0
+	if [ "$m2" = "$m1" ]; then
+		clean=1
+		break
+	fi
+done
+ok "a window between two magnetometer samples (try $try)" [ "$clean" = 1 ]
+is "an Error between two samples: three reads" \
+	"$(awk '$1 == "transactions" { print $2 }' <<<"$counters")" 3
+is "of one register each (1 address byte, 1 data byte)" \
+	"$(awk '$1 == "bytes" { print $2 }' <<<"$counters")" 6
 ok "the capture still runs" kill "$reader"
 wait "$reader" 2>/dev/null
-knob error 0
 
 # --- Resets of the chip's own ---------------------------------------------
 resets() {
