@@ -55,7 +55,7 @@
 #define SIM_MPU9250_WHO_AM_I	0x75
 #define SIM_MPU9250_ID		0x71
 #define SIM_EEPROM_WRITE_MS	5	/* M24512 datasheet: tW 5 ms */
-#define SIM_EEPROM_MAX_WRITE_MS	100
+#define SIM_EEPROM_MAX_WRITE_MS	1000
 
 /* MS5637 commands and fixed coefficients and conversions */
 #define SIM_MS5637_RESET	0x1e
