@@ -219,4 +219,27 @@ is "the EEPROM kept its contents over resets" "$(eeprom_rd 0x1234 4)" \
 	"0xde 0xad 0xbe 0xef"
 ok "PassThruControl 0" sim_wr 0xa0 0x00
 ok "unload" sim_unload
+
+# Behind the simulated mux each chip has a sensor bus of its own, on its
+# channel.
+chan_bus() {
+	local d
+	for d in /sys/bus/i2c/devices/i2c-*; do
+		case $(cat "$d/name") in
+		*"(chan_id $1)") echo "${d##*/i2c-}"; return 0 ;;
+		esac
+	done
+	return 1
+}
+sim_load mux_channels=2
+is "load with a mux of two channels" $? 0
+c0=$(chan_bus 0)
+c1=$(chan_bus 1)
+ok "passthrough on channel 1's chip" i2ctransfer -f -y "$c1" w2@0x28 0xa0 0x01
+is "channel 1: its MPU9250" "$(i2cget -f -y "$c1" 0x68 0x75)" 0x71
+nok "channel 0: its chip is not in passthrough" i2cget -f -y "$c0" 0x68 0x75
+nok "nor the first adapter's" i2cget -f -y "$SIM_BUS" 0x68 0x75
+is "channel 1's chip counted it" \
+	"$(awk '$1 == "bus_transactions" { print $2 }' "$SIM_DBG-mux-1/board")" 1
+ok "unload" sim_unload
 done_testing
