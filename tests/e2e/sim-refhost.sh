@@ -8,7 +8,8 @@
 # of the hosts that others ran on real boards), not from our driver. Reset
 # and status, master-mode setup with the LPF before the rates, events 0x07,
 # parameter reads and writes, full-scale parameters 74/75, passthrough on
-# and off. It must see what those hosts see on silicon: every data bit in
+# and off; on the USFS board (barometer reported) and on one without a
+# barometer. It must see what those hosts see on silicon: every data bit in
 # EventStatus after the setup, a unit quaternion, |a| of about 1 g, the
 # written parameters read back. Run under the default knobs and with
 # autoinc_stop (no auto-increment across 0x3A->0x3B, 0x63->0x64), which no
@@ -53,9 +54,9 @@ refhost_run() {
 	is "$label: parameter 52 0.7 written 0.5 reads back" \
 		"$(r param52_before) $(r param52_after)" "0.7000 0.5000"
 	is "$label: parameter 73 (stillness) written 0" "$(param_get 73)" 0x00000000
-	is "$label: no baro in FeatureFlags" "$(r feature_flags)" 0x00
-	is "$label: EventStatus: quaternion, mag, accel, gyro although only 0x07 is enabled" \
-		"$(r event_status)" 0x3c
+	is "$label: FeatureFlags $want_ff" "$(r feature_flags)" "$want_ff"
+	is "$label: EventStatus: every sensor's bit ($want_ev) although only 0x07 is enabled" \
+		"$(r event_status)" "$want_ev"
 	is "$label: no error" "$(r error_register)" 0x00
 	ok "$label: quaternion norm $(r quat_norm) within 1e-4 of 1" \
 		within "$(r quat_norm)" 0.9999 1.0001
@@ -67,10 +68,16 @@ refhost_run() {
 	is "$label: passthrough off" "$(r passthru_status_off)" 0x00
 	is "$label: algorithm running again (still)" "$(r algorithm_status_off)" 0x04
 	is "$label: data again after passthrough" \
-		"$(r event_status_after_passthrough)" 0x3c
+		"$(r event_status_after_passthrough)" "$want_ev"
 	is "$label: chip left out of transfer mode" "$(dbg_get state transfer)" 0
 	echo "# $label: $(r transactions) transactions; quaternion $(r quat_wxyz); accel $(r accel_lsb) LSB"
 }
+
+# The USFS board: barometer and temperature in FeatureFlags; the host
+# enables the barometer with 0x80 | rate, so its bit (6) joins the
+# quaternion, mag, accel and gyro bits.
+want_ff=0x05
+want_ev=0x7c
 
 # A device turned away from level, so that the quaternion is not the
 # identity and gravity is spread over the axes.
@@ -84,6 +91,13 @@ ok "autoinc_stop 0" knob autoinc_stop 0
 ok "bus_khz 100" knob bus_khz 100
 refhost_run "100 kHz"
 ok "bus_khz 0" knob bus_khz 0
+
+# A board without a barometer: the host's BaroRate write has no effect.
+ok "feature_flags 0" knob feature_flags 0
+want_ff=0x00
+want_ev=0x3c
+refhost_run "no barometer"
+ok "feature_flags 5" knob feature_flags 5
 
 # The old model, EventStatus gated by EnableEvents, is not what the hosts
 # on real boards see: with it they lose every sensor but the quaternion.

@@ -17,6 +17,7 @@
 #include <linux/types.h>
 
 #include "sim-motion.h"
+#include "sim-usfs.h"
 
 #define SIM_I2C_ADDR		0x28
 /* RAMVersion at load, and what the client's emmicro,calibration-firmware names */
@@ -31,6 +32,7 @@
 #define SIM_REG_ATIME		0x20
 #define SIM_REG_GX		0x22
 #define SIM_REG_GTIME		0x28
+#define SIM_REG_FEATURE0	0x2a	/* feature data slots 0x2a..0x31 */
 #define SIM_REG_QRATE_DIVISOR	0x32
 #define SIM_REG_ENABLE_EVENTS	0x33
 #define SIM_REG_HOST_CONTROL	0x34
@@ -38,6 +40,7 @@
 #define SIM_REG_SENSOR_STATUS	0x36
 #define SIM_REG_SENTRAL_STATUS	0x37
 #define SIM_REG_ALGO_STATUS	0x38
+#define SIM_REG_FEATURE_FLAGS	0x39
 #define SIM_REG_PARAM_ACK	0x3a
 #define SIM_REG_SAVED_PARAM0	0x3b
 #define SIM_REG_SAVED_PARAM3	0x3e
@@ -46,6 +49,7 @@
 #define SIM_REG_ACTUAL_MAG	0x45
 #define SIM_REG_ACTUAL_ACCEL	0x46
 #define SIM_REG_ACTUAL_GYRO	0x47
+#define SIM_REG_ACTUAL_FEATURE0	0x48	/* 0x48..0x4a */
 #define SIM_REG_CAL_SCORE_LSB	0x4d
 #define SIM_REG_CAL_SCORE_MSB	0x4e
 #define SIM_REG_ERROR		0x50
@@ -53,6 +57,7 @@
 #define SIM_REG_MAG_RATE	0x55
 #define SIM_REG_ACCEL_RATE	0x56
 #define SIM_REG_GYRO_RATE	0x57
+#define SIM_REG_FEATURE_RATE0	0x58	/* 0x58..0x5a, bit 7: report */
 #define SIM_REG_LOAD_PARAM0	0x60
 #define SIM_REG_LOAD_PARAM3	0x63
 #define SIM_REG_PARAM_REQUEST	0x64
@@ -61,6 +66,9 @@
 #define SIM_REG_PRODUCT_ID	0x90
 #define SIM_REG_REVISION_ID	0x91
 #define SIM_REG_RUN_STATUS	0x92
+#define SIM_REG_UPLOAD_ADDR	0x94	/* 0x94..0x95, MSB first */
+#define SIM_REG_UPLOAD_DATA	0x96
+#define SIM_REG_CRC_HOST	0x97	/* 0x97..0x9a */
 #define SIM_REG_RESET_REQUEST	0x9b
 #define SIM_REG_PASSTHRU_STATUS	0x9e
 #define SIM_REG_PASSTHRU_CTRL	0xa0
@@ -71,8 +79,10 @@
 #define SIM_EV_MAG		BIT(3)
 #define SIM_EV_ACCEL		BIT(4)
 #define SIM_EV_GYRO		BIT(5)
+#define SIM_EV_FEATURE		BIT(6)
 
 #define SIM_HOST_RUN		BIT(0)
+#define SIM_HOST_UPLOAD		BIT(1)
 #define SIM_ALGO_STANDBY	BIT(0)
 #define SIM_ALGO_PARAM_PROC	BIT(7)
 #define SIM_PARAM_WRITE		BIT(7)
@@ -232,6 +242,9 @@ struct sentral_sim {
 	bool standby_blocks_params;
 	u32 nack_after_reset_ms;
 	ktime_t nack_until;	/* NACK everything before this time */
+
+	/* The board: feature sensors, sensor bus, host upload (sim-usfs.c) */
+	struct sim_usfs usfs;
 
 	struct fwnode_handle *fwnode;
 	struct irq_domain *domain;

@@ -747,6 +747,16 @@ static const struct sim_knob sim_knobs[] = {
 	{ "params", 0400, params_show, NULL },
 	{ "regs", 0400, regs_show, NULL },
 	{ "state", 0400, state_show, NULL },
+	/* the board around the hub, sim-usfs.c */
+	{ "feature_flags", 0600, sim_usfs_feature_flags_show,
+	  sim_usfs_feature_flags_store },
+	{ "baro_rate_half", 0600, sim_usfs_baro_rate_half_show,
+	  sim_usfs_baro_rate_half_store },
+	{ "no_eeprom", 0600, sim_usfs_no_eeprom_show, sim_usfs_no_eeprom_store },
+	{ "crc_wire", 0600, sim_usfs_crc_wire_show, sim_usfs_crc_wire_store },
+	{ "eeprom_write_ms", 0600, sim_usfs_eeprom_write_ms_show,
+	  sim_usfs_eeprom_write_ms_store },
+	{ "board", 0400, sim_usfs_board_show, NULL },
 };
 
 static int sim_knob_show(struct seq_file *m, void *unused)
@@ -881,6 +891,7 @@ int sim_debugfs_init(struct sentral_sim *sim, const char *dir)
 		debugfs_create_file(sim_knobs[i].name, sim_knobs[i].mode,
 				    sim->debugfs, &kf[i], &sim_knob_fops);
 	}
+	sim_usfs_debugfs_init(sim, sim->debugfs);
 	return 0;
 }
 

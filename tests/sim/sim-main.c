@@ -196,7 +196,9 @@ static void sim_msg_write(struct sentral_sim *sim, struct i2c_msg *msg,
 	sim->pointer = msg->buf[0];
 	for (i = 1; i < msg->len; i++) {
 		sim_reg_write(sim, sim->pointer, msg->buf[i], now);
-		sim_pointer_next(sim);
+		/* UploadData takes a stream of bytes (reference §3 item 3) */
+		if (sim->pointer != SIM_REG_UPLOAD_DATA)
+			sim_pointer_next(sim);
 	}
 }
 
@@ -247,6 +249,9 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 	if (bus->mux && bus->sel < 0)
 		return -ENXIO;
 	sim = bus->chip[bus->mux ? bus->sel : 0];
+	/* Any other address: the hub's sensor bus, through passthrough */
+	if (num && msgs[0].addr != SIM_I2C_ADDR)
+		return sim_usfs_xfer(sim, msgs, num);
 	for (i = 0; i < num; i++) {
 		if (msgs[i].addr != SIM_I2C_ADDR ||
 		    (msgs[i].flags & I2C_M_TEN))
@@ -380,9 +385,15 @@ static struct sentral_sim *sim_chip_new(const char *dir)
 	sim = kzalloc_obj(*sim, GFP_KERNEL);
 	if (!sim)
 		return ERR_PTR(-ENOMEM);
+	ret = sim_usfs_alloc(sim);
+	if (ret) {
+		kfree(sim);
+		return ERR_PTR(ret);
+	}
 	sim_model_init(sim);
 	ret = sim_irq_init(sim);
 	if (ret) {
+		sim_usfs_free(sim);
 		kfree(sim);
 		return ERR_PTR(ret);
 	}
@@ -395,6 +406,7 @@ static struct sentral_sim *sim_chip_new(const char *dir)
 	if (ret) {
 		sim_stop(sim);
 		sim_irq_exit(sim);
+		sim_usfs_free(sim);
 		kfree(sim);
 		return ERR_PTR(ret);
 	}
@@ -406,6 +418,7 @@ static void sim_chip_free(struct sentral_sim *sim)
 	sim_debugfs_exit(sim);
 	sim_stop(sim);
 	sim_irq_exit(sim);
+	sim_usfs_free(sim);
 	kfree(sim);
 }
 

@@ -121,7 +121,9 @@ bool sim_algo_running(struct sentral_sim *sim, ktime_t now)
 
 	return !sim_in_upload(sim, now) && !sim->wedged &&
 	       (sim->regs[SIM_REG_HOST_CONTROL] & SIM_HOST_RUN) &&
-	       !(algo & (SIM_ALGO_STANDBY | SIM_ALGO_PARAM_PROC));
+	       !(algo & (SIM_ALGO_STANDBY | SIM_ALGO_PARAM_PROC)) &&
+	       /* its sensor bus is the host's (§3 item 9) */
+	       !sim_usfs_passthrough(sim);
 }
 
 static u64 sim_coeff_error(struct sentral_sim *sim, const s32 *coeff)
@@ -277,8 +279,9 @@ static void sim_param_poll(struct sentral_sim *sim, ktime_t now)
 	unsigned int n = req & ~SIM_PARAM_WRITE;
 	u32 val;
 
-	if (!sim->req_pending || sim->ack_never || sim_in_upload(sim, now) ||
-	    sim->wedged ||
+	/* no firmware (uploading, or none uploaded): nobody serves */
+	if (!sim->req_pending || sim->ack_never ||
+	    !sim_usfs_firmware(sim, now) || sim->wedged ||
 	    !(sim->regs[SIM_REG_ALGO_CONTROL] & SIM_ALGO_PARAM_PROC))
 		return;
 	if (sim->standby_blocks_params &&
@@ -608,7 +611,7 @@ static ktime_t sim_next_due(struct sentral_sim *sim)
 		if (!next || ktime_before(due, next))
 			next = due;
 	}
-	return next;
+	return sim_usfs_next_due(sim, next);
 }
 
 /*
@@ -618,10 +621,11 @@ static ktime_t sim_next_due(struct sentral_sim *sim)
 void sim_schedule(struct sentral_sim *sim, ktime_t now)
 {
 	bool prod = !sim->dead && sim_algo_running(sim, now);
+	bool start = prod && !sim->producing;
 	ktime_t next;
 	int id;
 
-	if (prod && !sim->producing)
+	if (start)
 		sim->epoch = now;
 	for (id = 0; prod && id < SIM_NSTREAMS; id++) {
 		struct sim_stream *st = &sim->stream[id];
@@ -634,6 +638,7 @@ void sim_schedule(struct sentral_sim *sim, ktime_t now)
 		if (id == SIM_QUAT)
 			sim->quat_phase = 0;
 	}
+	sim_usfs_schedule(sim, prod, start, now);
 	sim->producing = prod;
 
 	next = prod ? sim_next_due(sim) : 0;
@@ -674,6 +679,7 @@ static enum hrtimer_restart sim_timer_fn(struct hrtimer *timer)
 		if (!next || ktime_before(due, next))
 			next = due;
 	}
+	next = sim_usfs_tick(sim, now, next);
 	fire = sim_int_update(sim);
 	if (next)
 		hrtimer_set_expires(timer, next);
@@ -731,6 +737,7 @@ void sim_power_on(struct sentral_sim *sim, ktime_t now)
 
 	sim->producing = false;
 	sim->quat_phase = 0;
+	sim_usfs_power_on(sim, now);
 	for (id = 0; id < SIM_NSTREAMS; id++) {
 		struct sim_stream *st = &sim->stream[id];
 
@@ -765,6 +772,7 @@ void sim_model_init(struct sentral_sim *sim)
 	sim->score_floor_milli = SIM_SCORE_FLOOR_MILLI;
 	sim->drift_rng = 1;
 	sim_motion_init(&sim->world, ktime_get());
+	sim_usfs_init(sim, ktime_get());
 	sim_power_on(sim, ktime_get());
 }
 
@@ -825,6 +833,8 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 			sim->drdy_seen++;
 		return v;
 	case SIM_REG_SENTRAL_STATUS:
+		if (sim->usfs.no_eeprom)
+			return sim_usfs_sentral_status(sim, now);
 		if (up)
 			return SIM_ST_EEPROM;
 		/* left running by a host's warm reboot: no standby (§3, §5) */
@@ -880,9 +890,9 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 	case SIM_REG_ROM_VERSION + 1:
 		return sim->rom_version >> 8;
 	case SIM_REG_RAM_VERSION:
-		return up ? 0 : sim->ram_version & 0xff;
+		return sim_usfs_ram_version(sim, now) & 0xff;
 	case SIM_REG_RAM_VERSION + 1:
-		return up ? 0 : sim->ram_version >> 8;
+		return sim_usfs_ram_version(sim, now) >> 8;
 	case SIM_REG_PRODUCT_ID:
 		return sim->product_id;
 	case SIM_REG_REVISION_ID:
@@ -892,6 +902,9 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 	case SIM_REG_PASSTHRU_STATUS:
 		return sim->regs[SIM_REG_PASSTHRU_CTRL] & BIT(0);
 	default:
+		/* the board's: features, upload CRC (sim-usfs.c) */
+		if (sim_usfs_reg_read(sim, reg, now, &v))
+			return v;
 		return sim->regs[reg];
 	}
 }
@@ -942,7 +955,10 @@ void sim_reg_write(struct sentral_sim *sim, u8 reg, u8 val, ktime_t now)
 	case SIM_REG_HOST_CONTROL:
 		/* the CPU cannot be started before its firmware is loaded */
 		if (!sim_in_upload(sim, now))
-			sim->regs[reg] = val;
+			sim->regs[reg] = sim_usfs_host_control(sim, val, now);
+		break;
+	case SIM_REG_UPLOAD_DATA:
+		sim_usfs_upload_byte(sim, val);
 		break;
 	case SIM_REG_ALGO_CONTROL:
 		sim_write_algo_control(sim, val, now);
