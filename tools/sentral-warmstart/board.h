@@ -4,7 +4,8 @@
  * and Teensy utilities keep in the board's M24512 EEPROM (I2C 0x50, 128-byte
  * pages, two address bytes), found in an image of that EEPROM: at24's nvmem
  * file or a dump. Sources and how well each fact is confirmed:
- * Documentation/iio/sentral.rst, "Calibration a board already carries".
+ * tests/sim/README.md, "A USFS board's EEPROM: the utilities' calibration
+ * block".
  *
  *   layout  parameters 1..35       accel cal (12 bytes)   marker
  *   gt      0x8000..0x808b         0x808c..0x8097         0xaa at 0x8098
