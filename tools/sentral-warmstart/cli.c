@@ -32,7 +32,8 @@ enum {
 	OPT_POLL,
 	OPT_NO_SAVE,
 	OPT_DAEMON,
-	OPT_LAST = OPT_DAEMON,
+	OPT_LAYOUT,
+	OPT_LAST = OPT_LAYOUT,
 };
 
 static const struct option long_opts[] = {
@@ -54,6 +55,7 @@ static const struct option long_opts[] = {
 	{ "poll", required_argument, NULL, OPT_POLL },
 	{ "no-save", no_argument, NULL, OPT_NO_SAVE },
 	{ "daemon", no_argument, NULL, OPT_DAEMON },
+	{ "layout", required_argument, NULL, OPT_LAYOUT },
 	{ "help", no_argument, NULL, OPT_HELP },
 	{ "version", no_argument, NULL, OPT_VERSION },
 	{ NULL, 0, NULL, 0 },
@@ -71,6 +73,7 @@ static const struct {
 	{ "show", SW_CMD_SHOW },
 	{ "key", SW_CMD_KEY },
 	{ "watch", SW_CMD_WATCH },
+	{ "import-board", SW_CMD_IMPORT_BOARD },
 };
 
 void sw_usage(FILE *f)
@@ -99,6 +102,10 @@ void sw_usage(FILE *f)
 	      "                                  stay running and save whenever the calibration\n"
 	      "                                  becomes good enough and better than the saved one,\n"
 	      "                                  or the accel offsets change\n"
+	      "  import-board IMAGE [--layout gt|kw] [--file F] [--force]\n"
+	      "                                  save the calibration that the USFS utilities\n"
+	      "                                  stored in the board's EEPROM (IMAGE: at24's\n"
+	      "                                  nvmem file or a dump) for the chip present\n"
 	      "\n"
 	      "Options:\n"
 	      "  -d, --device NAME     em7180 IIO device: iio:deviceN, label, I2C client name\n"
@@ -108,7 +115,8 @@ void sw_usage(FILE *f)
 	      "      --state-dir DIR   saved files (default " SW_STATE_DIR ")\n"
 	      "  -f, --file F          saved file (default DIR/KEY.ws)\n"
 	      "      --force           save a worse calibration, restore a file made for\n"
-	      "                        another chip version, use --i2c with a driver bound\n"
+	      "                        another chip version, import over a saved file,\n"
+	      "                        use --i2c with a driver bound\n"
 	      "      --if-present      restore: a missing file is not an error;\n"
 	      "                        save: a device that is gone is not an error\n"
 	      "      --json            status, calibrate: machine-readable output\n"
@@ -125,12 +133,14 @@ void sw_usage(FILE *f)
 	      "                        watcher per chip, the newest replaces an older one\n"
 	      "      --margin M        watch: replace a good saved calibration only with a\n"
 	      "                        score at least M points lower (default 0.5)\n"
+	      "      --layout L        import-board: gt (Greg Tomasch's utility, the default)\n"
+	      "                        or kw (Kris Winer's sketches)\n"
 	      "  -h, --help            this help\n"
 	      "  -V, --version         print the version\n"
 	      "\n"
 	      "Exit status (sysexits.h; the save policy saying no is a success):\n"
-	      "  0 success   64 usage error   65 saved file refused by a check\n"
-	      "  66 saved file missing   69 no, several, unusable or (watch) vanished device\n"
+	      "  0 success   64 usage error   65 saved file or EEPROM image refused by a check\n"
+	      "  66 saved file or EEPROM image missing   69 no, several, unusable or (watch) vanished device\n"
 	      "  71 out of memory   72 state directory missing   74 I/O or bus error\n"
 	      "  75 calibration incomplete, timed out or unverified\n"
 	      "  77 refused: owner, mode or symbolic link of a file or directory\n"
@@ -235,7 +245,8 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 					1u << SW_CMD_CALIBRATE |
 					1u << SW_CMD_STATUS |
 					1u << SW_CMD_WATCH |
-					1u << SW_CMD_ACCEL_CAL },
+					1u << SW_CMD_ACCEL_CAL |
+					1u << SW_CMD_IMPORT_BOARD },
 		{ OPT_MAX_SCORE, "--max-score", 1u << SW_CMD_SAVE |
 						  1u << SW_CMD_CALIBRATE |
 						  1u << SW_CMD_WATCH |
@@ -245,6 +256,7 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 		{ OPT_POLL, "--poll", 1u << SW_CMD_WATCH },
 		{ OPT_DAEMON, "--daemon", 1u << SW_CMD_WATCH },
 		{ OPT_NO_SAVE, "--no-save", 1u << SW_CMD_ACCEL_CAL },
+		{ OPT_LAYOUT, "--layout", 1u << SW_CMD_IMPORT_BOARD },
 		{ OPT_TARGET_SCORE, "--target-score", 1u << SW_CMD_CALIBRATE },
 		{ OPT_TIMEOUT, "--timeout", 1u << SW_CMD_CALIBRATE },
 		{ OPT_SAMPLES, "--samples", 1u << SW_CMD_ACCEL_CAL },
@@ -259,7 +271,8 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 					  rules[i].name, command_name(o->cmd));
 	}
 	if (o->force && !o->i2c_dev && o->cmd != SW_CMD_SAVE &&
-	    o->cmd != SW_CMD_RESTORE && o->cmd != SW_CMD_CALIBRATE)
+	    o->cmd != SW_CMD_RESTORE && o->cmd != SW_CMD_CALIBRATE &&
+	    o->cmd != SW_CMD_IMPORT_BOARD)
 		return sw_err_set(e, SW_EXIT_USAGE,
 				  "--force is not an option of '%s'",
 				  command_name(o->cmd));
@@ -269,7 +282,7 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 	return SW_EXIT_OK;
 }
 
-/* A non-option: the command, or show's FILE. */
+/* A non-option: the command, show's FILE or import-board's IMAGE. */
 static int operand(const char *arg, struct sw_opts *o, const char **show_file,
 		   struct sw_err *e)
 {
@@ -282,7 +295,8 @@ static int operand(const char *arg, struct sw_opts *o, const char **show_file,
 		if (o->cmd == SW_CMD_NONE)
 			return sw_err_set(e, SW_EXIT_USAGE,
 					  "unknown command '%s'", arg);
-	} else if (o->cmd == SW_CMD_SHOW && !*show_file) {
+	} else if ((o->cmd == SW_CMD_SHOW || o->cmd == SW_CMD_IMPORT_BOARD) &&
+		   !*show_file) {
 		*show_file = arg;
 	} else {
 		return sw_err_set(e, SW_EXIT_USAGE, "unexpected argument '%s'",
@@ -406,6 +420,12 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 		case OPT_DAEMON:
 			o->daemon = true;
 			break;
+		case OPT_LAYOUT:
+			if (!sw_board_layout_parse(optarg, &o->layout))
+				ret = sw_err_set(e, SW_EXIT_USAGE,
+						 "--layout: '%s' is neither gt nor kw",
+						 optarg);
+			break;
 		case OPT_HELP:
 			o->help = true;
 			break;
@@ -437,6 +457,12 @@ int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e)
 			return sw_err_set(e, SW_EXIT_USAGE,
 					  "show needs a FILE");
 		o->file = show_file;
+	}
+	if (o->cmd == SW_CMD_IMPORT_BOARD) {
+		if (!show_file || !*show_file)
+			return sw_err_set(e, SW_EXIT_USAGE,
+					  "import-board needs the EEPROM IMAGE (at24's nvmem file or a dump)");
+		o->image = show_file;
 	}
 	if (!*o->state_dir)
 		return sw_err_set(e, SW_EXIT_USAGE, "--state-dir is empty");

@@ -5,6 +5,7 @@
 #ifndef SW_CLI_H
 #define SW_CLI_H
 
+#include "board.h"
 #include "sw.h"
 
 enum sw_command {
@@ -17,6 +18,7 @@ enum sw_command {
 	SW_CMD_SHOW,
 	SW_CMD_KEY,
 	SW_CMD_WATCH,
+	SW_CMD_IMPORT_BOARD,
 };
 
 struct sw_opts {
@@ -26,6 +28,8 @@ struct sw_opts {
 	unsigned int address;	/* --address, default 0x28 */
 	const char *state_dir;	/* --state-dir */
 	const char *file;	/* --file, or show's FILE */
+	const char *image;	/* import-board's IMAGE */
+	enum sw_board_layout layout;	/* import-board --layout */
 	bool force;
 	bool if_present;
 	bool json;

@@ -7,11 +7,13 @@
 #include <poll.h>
 #include <signal.h>
 #include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "board.h"
 #include "cmd.h"
 #include "policy.h"
 #include "wsfile.h"
@@ -455,6 +457,127 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 	close(lock);
 	if (saved)
 		*saved = wrote;
+	return ret;
+}
+
+/*
+ * What import-board records where the board's block has nothing: no
+ * calibration status or score were saved with it. Status 0 and the worst
+ * score (as for a firmware that does not report them): restore does not
+ * wait for status 3, and any calibration the chip completes later is
+ * better by the save policy, so save and watch replace the import.
+ */
+#define IMPORT_STATUS 0
+#define IMPORT_SCORE_RAW 0xffff
+
+/* Under the writers' lock: the import policy's look at the file, the write. */
+static int import_locked(struct sw_backend *b, const struct sw_opts *o,
+			 struct sw_env *env, const struct sw_board_cal *cal,
+			 const char *path, struct sw_err *e)
+{
+	struct sw_policy_in pin = { 0 };
+	uint8_t out[SW_FILE_SIZE];
+	char why[512], oldwhy[256];
+	struct sw_file nf, old;
+	struct sw_err lerr;
+	int ret;
+
+	migrate_legacy(b, o, env);
+	memset(&nf, 0, sizeof(nf));
+	ret = b->ops->chip_info(b, &nf.chip, e);
+	if (ret)
+		return ret;
+	sw_err_clear(&lerr);
+	ret = load_existing(o, path, &nf.chip, &old, &pin.have_old, oldwhy,
+			    sizeof(oldwhy), NULL, &lerr);
+	/* A missing state directory is created by the write. */
+	if (ret && ret != SW_EXIT_STATEDIR)
+		return sw_err_set(e, ret, "%s", lerr.msg);
+	pin.old_status = old.cal_status;
+	pin.old_score_raw = old.score_raw;
+	pin.force = o->force;
+	if (!sw_policy_import(&pin, why, sizeof(why))) {
+		sw_note(env, "not importing the board's calibration for %s to %s: %s",
+			b->name, path, why);
+		return SW_EXIT_OK;
+	}
+	if (oldwhy[0])
+		sw_note(env, "replacing unusable %s: %s", path, oldwhy);
+	nf.cal_status = IMPORT_STATUS;
+	nf.score_raw = IMPORT_SCORE_RAW;
+	nf.saved_at = env->wall_s(env->clk);
+	memcpy(nf.payload, cal->blob, SW_BLOB_SIZE);
+	sw_file_encode(&nf, out);
+	ret = sw_file_write_atomic(path, out, sizeof(out), !o->file, e);
+	if (ret)
+		return ret;
+	sw_note(env, "imported %s's calibration from the board's EEPROM (%s layout, parameters at 0x%04x) to %s: %s",
+		b->name, sw_board_layout_name(cal->layout), cal->params_at,
+		path, why);
+	return SW_EXIT_OK;
+}
+
+/* The utilities' accel cal is reported, not imported (see the man page). */
+static void note_board_accel(struct sw_env *env, const struct sw_board_cal *cal)
+{
+	if (!cal->accel_present) {
+		sw_note(env, "the board holds no accel calibration");
+		return;
+	}
+	sw_note(env, "the board's accel calibration (max/min LSB: x %d/%d, y %d/%d, z %d/%d)%s is not imported: the utilities apply it through registers of their firmware, not through warm-start parameters 27-29; run accel-cal for this tool's offsets",
+		cal->acc_max[0], cal->acc_min[0], cal->acc_max[1],
+		cal->acc_min[1], cal->acc_max[2], cal->acc_min[2],
+		cal->accel_in_range ? "" :
+		" is out of the utility's own bounds (1800..2240 LSB) and");
+}
+
+int sw_cmd_import_board(struct sw_backend *b, const struct sw_opts *o,
+			struct sw_env *env, struct sw_err *e)
+{
+	struct sw_board_cal cal;
+	enum sw_board_check c;
+	struct sw_err rerr;
+	char path[4096], detail[300];
+	uint8_t *img;
+	size_t len;
+	int ret, lock;
+
+	img = malloc(SW_BOARD_EEPROM_SIZE + 1);
+	if (!img)
+		return sw_err_set(e, SW_EXIT_OSERR, "out of memory");
+	/*
+	 * The image the administrator names, as show reads a file: at24's
+	 * nvmem file lies under a symlinked directory. What it holds is
+	 * checked below before anything is written.
+	 */
+	sw_err_clear(&rerr);
+	ret = sw_file_read_max(o->image, SW_READ_ANY, img, SW_BOARD_EEPROM_SIZE,
+			       &len, NULL, &rerr);
+	if (ret == SW_EXIT_NOFILE)
+		ret = sw_err_set(e, ret, "EEPROM image %s does not exist",
+				 o->image);
+	else if (ret)
+		ret = sw_err_set(e, rerr.code, "%s", rerr.msg);
+	if (!ret) {
+		c = sw_board_parse(img, len, o->layout, &cal, detail,
+				   sizeof(detail));
+		if (c != SW_BOARD_OK)
+			ret = sw_err_set(e, SW_EXIT_FILE,
+					 "%s: refused: %s (%s); nothing written",
+					 o->image, sw_board_check_name(c),
+					 detail);
+	}
+	free(img);
+	if (ret)
+		return ret;
+	sw_file_path(o, b, path, sizeof(path));
+	lock = writers_lock(o, env, path, e);
+	if (lock < 0)
+		return -lock;
+	ret = import_locked(b, o, env, &cal, path, e);
+	close(lock);
+	if (!ret)
+		note_board_accel(env, &cal);
 	return ret;
 }
 

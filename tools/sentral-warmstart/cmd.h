@@ -69,6 +69,16 @@ int sw_cmd_watch(struct sw_backend *b, const struct sw_opts *o,
 		 struct sw_env *env, struct sw_err *e);
 
 /*
+ * Read the EEPROM image o->image, find the USFS utilities' block of
+ * o->layout (board.h), check it as a saved file is checked, and save its
+ * parameters for the chip present through the save's lock and atomic
+ * write, by sw_policy_import(). A refused image is SW_EXIT_FILE, a missing
+ * one SW_EXIT_NOFILE; nothing is written then.
+ */
+int sw_cmd_import_board(struct sw_backend *b, const struct sw_opts *o,
+			struct sw_env *env, struct sw_err *e);
+
+/*
  * The driver does not report the calibration of the chip's firmware
  * (sw_cal_state.reported false): SW_EXIT_DRIVER, with a message naming
  * the RAM version, what is not done (what) and how to add the firmware.

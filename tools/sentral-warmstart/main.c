@@ -66,6 +66,9 @@ static int run(const struct sw_opts *o, struct sw_env *env, struct sw_err *e)
 	case SW_CMD_KEY:
 		ret = sw_cmd_key(b, o, env, e);
 		break;
+	case SW_CMD_IMPORT_BOARD:
+		ret = sw_cmd_import_board(b, o, env, e);
+		break;
 	case SW_CMD_WATCH:
 		if (o->daemon)
 			ret = sw_daemon_start(SW_RUN_DIR, b->key, env, e);

@@ -90,3 +90,20 @@ enum sw_save_what sw_policy_save(const struct sw_policy_in *in, char *why,
 		 cal);
 	return SW_SAVE_BLOB;
 }
+
+enum sw_save_what sw_policy_import(const struct sw_policy_in *in, char *why,
+				   size_t len)
+{
+	if (in->force) {
+		snprintf(why, len, "forced");
+		return SW_SAVE_BLOB;
+	}
+	if (!in->have_old) {
+		snprintf(why, len, "no usable saved calibration for this chip");
+		return SW_SAVE_BLOB;
+	}
+	snprintf(why, len,
+		 "a saved calibration exists (status %d, score %.3f%%) and the board's block carries no status or score to compare it with (--force replaces it)",
+		 in->old_status, sw_score_pct(in->old_score_raw));
+	return SW_SAVE_NOTHING;
+}

@@ -57,4 +57,15 @@ struct sw_policy_in {
 enum sw_save_what sw_policy_save(const struct sw_policy_in *in, char *why,
 				 size_t len);
 
+/*
+ * import-board: may a calibration taken from the board's EEPROM, which
+ * records no status or score, be written over the file in? Only where no
+ * usable file for this chip is (missing, or failing a check), or with
+ * --force: there is nothing to judge it against a saved one by. Uses
+ * have_old, old_status, old_score_raw and force; returns SW_SAVE_BLOB or
+ * SW_SAVE_NOTHING, why saying why either way.
+ */
+enum sw_save_what sw_policy_import(const struct sw_policy_in *in, char *why,
+				   size_t len);
+
 #endif

@@ -353,6 +353,13 @@ static int open_parent(const char *path, const char *dir, bool state,
 int sw_file_read(const char *path, enum sw_read_mode mode, uint8_t *buf,
 		 size_t *len, int *errno_out, struct sw_err *e)
 {
+	return sw_file_read_max(path, mode, buf, SW_FILE_MAX_READ, len,
+				errno_out, e);
+}
+
+int sw_file_read_max(const char *path, enum sw_read_mode mode, uint8_t *buf,
+		     size_t max, size_t *len, int *errno_out, struct sw_err *e)
+{
 	int flags = O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK;
 	int dfd = AT_FDCWD, fd, ret;
 	const char *base = path;
@@ -394,8 +401,8 @@ int sw_file_read(const char *path, enum sw_read_mode mode, uint8_t *buf,
 		}
 	}
 	/* Read one byte more than allowed to notice an oversized file. */
-	while (got < SW_FILE_MAX_READ + 1) {
-		n = read(fd, buf + got, SW_FILE_MAX_READ + 1 - got);
+	while (got < max + 1) {
+		n = read(fd, buf + got, max + 1 - got);
 		if (n < 0 && errno == EINTR)
 			continue;
 		if (n < 0) {

@@ -120,6 +120,13 @@ enum sw_read_mode {
  */
 int sw_file_read(const char *path, enum sw_read_mode mode, uint8_t *buf,
 		 size_t *len, int *errno_out, struct sw_err *e);
+/*
+ * As sw_file_read(), for a file of at most max bytes (buf holds max + 1:
+ * a longer file reads as max + 1 bytes). import-board reads an EEPROM
+ * image with it.
+ */
+int sw_file_read_max(const char *path, enum sw_read_mode mode, uint8_t *buf,
+		     size_t max, size_t *len, int *errno_out, struct sw_err *e);
 
 /*
  * Atomically replace path with buf: temp file ".BASE.XXXXXXXX.tmp" in the

@@ -184,6 +184,22 @@ void fake_fill_blob(uint8_t *blob)
 		sw_blob_set_param(blob, i, (float)i * 0.5f);
 }
 
+uint32_t fake_board_image(uint8_t *img, enum sw_board_layout l)
+{
+	/* Written independently of board.c: the utilities' own addresses. */
+	uint32_t at = l == SW_BOARD_GT ? 0x8000 : 0x7f00;
+	static const int16_t acc[6] = { 2049, 2050, 2051, -2047, -2046, -2045 };
+	int k;
+
+	memset(img, 0xff, SW_BOARD_EEPROM_SIZE);
+	fake_fill_blob(img + at);
+	for (k = 0; k < 6; k++)
+		sw_put_le16(img + at + 0x8c + 2 * k, (uint16_t)acc[k]);
+	if (l == SW_BOARD_GT)
+		img[at + 0x98] = 0xaa;
+	return at;
+}
+
 void fake_init(struct fake_be *f, struct fake_clock *clk)
 {
 	memset(f, 0, sizeof(*f));

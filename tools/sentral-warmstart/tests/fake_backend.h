@@ -6,6 +6,7 @@
 #ifndef SW_FAKE_BACKEND_H
 #define SW_FAKE_BACKEND_H
 
+#include "board.h"
 #include "cmd.h"
 
 struct fake_clock {
@@ -62,5 +63,13 @@ void fake_env(struct sw_env *env, struct fake_clock *clk, FILE *out,
 	      FILE *err);
 /* The parameters of a plausible blob: i * 0.5 for parameter i. */
 void fake_fill_blob(uint8_t *blob);
+
+/*
+ * A 64 KiB M24512 image as the USFS utilities leave it (board.h): erased
+ * (0xff) but for the block of layout l, holding fake_fill_blob()'s
+ * parameters, an accel cal of max 2049 2050 2051 and min -2047 -2046
+ * -2045 LSB, and for gt the marker. Returns the block's first address.
+ */
+uint32_t fake_board_image(uint8_t *img, enum sw_board_layout l);
 
 #endif

@@ -68,6 +68,18 @@ static void test_good(void **state)
 	assert_int_equal(o.address, 0x29);
 	assert_string_equal(o.file, "/tmp/x.ws");
 	assert_true(o.force);
+	assert_int_equal(parse(&o, &e, "import-board",
+			       "/sys/bus/nvmem/devices/0-00500/nvmem", "--layout",
+			       "kw", "--file", "/tmp/x.ws", "--force", NULL),
+			 SW_EXIT_OK);
+	assert_int_equal(o.cmd, SW_CMD_IMPORT_BOARD);
+	assert_string_equal(o.image, "/sys/bus/nvmem/devices/0-00500/nvmem");
+	assert_int_equal(o.layout, SW_BOARD_KW);
+	assert_string_equal(o.file, "/tmp/x.ws");
+	assert_true(o.force);
+	assert_int_equal(parse(&o, &e, "import-board", "img", NULL), SW_EXIT_OK);
+	assert_int_equal(o.layout, SW_BOARD_GT);
+	assert_null(o.file);
 	assert_int_equal(parse(&o, &e, "restore", "--if-present", "--state-dir",
 			       "/s", NULL), SW_EXIT_OK);
 	assert_true(o.if_present);
@@ -191,6 +203,14 @@ static void test_errors(void **state)
 		     "watch", NULL);
 	expect_usage("no command", "--device", "x", NULL);
 	expect_usage("unknown command 'frobnicate'", "frobnicate", NULL);
+	expect_usage("import-board needs the EEPROM IMAGE", "import-board",
+		     NULL);
+	expect_usage("--layout: 'ab' is neither gt nor kw", "import-board",
+		     "x", "--layout", "ab", NULL);
+	expect_usage("--layout is not an option of 'save'", "save",
+		     "--layout", "gt", NULL);
+	expect_usage("unexpected argument 'y'", "import-board", "x", "y",
+		     NULL);
 	expect_usage("unknown option '--bogus'", "status", "--bogus", NULL);
 	expect_usage("needs an argument", "status", "--device", NULL);
 	/*

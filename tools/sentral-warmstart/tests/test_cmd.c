@@ -1403,6 +1403,196 @@ static void test_watch_saves_offsets(void **state)
 	assert_int_equal(sw_g_to_lsb(sw_blob_param(f.payload, 29)), 46);
 }
 
+/* import-board: an EEPROM image written to DIR/eeprom, imported. */
+static int import_image(struct ctx *c, const uint8_t *img, size_t len,
+			enum sw_board_layout l, bool force)
+{
+	struct sw_opts o = c->o;
+	char image[160];
+	FILE *f;
+
+	snprintf(image, sizeof(image), "%s/eeprom", c->dir);
+	f = fopen(image, "w");
+	assert_non_null(f);
+	assert_int_equal(fwrite(img, 1, len, f), len);
+	assert_int_equal(fclose(f), 0);
+	o.image = image;
+	o.layout = l;
+	o.force = force;
+	sw_err_clear(&c->e);
+	return sw_cmd_import_board(&c->fb.b, &o, &c->env, &c->e);
+}
+
+/* The state directory holds the writers' lock file at most: no state file. */
+static void assert_nothing_written(struct ctx *c)
+{
+	struct stat st;
+	char cmd[200];
+
+	assert_int_equal(lstat(c->path, &st), -1);
+	snprintf(cmd, sizeof(cmd),
+		 "test -z \"$(ls -A '%s' | grep -v -x -e eeprom -e '.platform-sentral-sim-0x28.ws.lock')\"",
+		 c->dir);
+	assert_int_equal(system(cmd), 0);
+}
+
+static void test_import_board(void **state)
+{
+	static uint8_t img[SW_BOARD_EEPROM_SIZE];
+	struct ctx *c = *state;
+	uint8_t blob[SW_BLOB_SIZE];
+	struct sw_file f;
+	struct stat st;
+
+	fake_board_image(img, SW_BOARD_GT);
+	/* The chip holds something else: the import takes the board's. */
+	sw_blob_set_param(c->fb.blob, 18, 9.0f);
+	fake_fill_blob(blob);
+	assert_int_equal(import_image(c, img, sizeof(img), SW_BOARD_GT, false),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c),
+			       "imported iio:device0's calibration from the board's EEPROM (gt layout, parameters at 0x8000)"));
+	assert_non_null(strstr(out_text(c), "x 2049/-2047"));
+	assert_non_null(strstr(out_text(c), "is not imported"));
+	assert_true(load(c, &f));
+	assert_memory_equal(f.payload, blob, SW_BLOB_SIZE);
+	/* The chip's identity, as save records it; no status or score known. */
+	assert_int_equal(f.chip.product_id, 0x80);
+	assert_int_equal(f.chip.rom_version, 0x09e6);
+	assert_int_equal(f.chip.ram_version, c->fb.chip.ram_version);
+	assert_int_equal(f.cal_status, 0);
+	assert_int_equal(f.score_raw, 0xffff);
+	assert_true(f.saved_at == 1800000000);
+	assert_int_equal(stat(c->path, &st), 0);
+	assert_int_equal(st.st_mode & 0777, 0600);
+	assert_int_equal(c->fb.writes, 0);
+
+	/* restore writes exactly the board's parameters to the chip. */
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 1);
+	assert_memory_equal(c->fb.blob, blob, SW_BLOB_SIZE);
+
+	/* A complete calibration the chip reaches later replaces the import. */
+	sw_blob_set_param(c->fb.blob, 18, 7.0f);
+	c->fb.cs.status = 3;
+	c->fb.cs.score_raw = sw_score_raw(4.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.cal_status, 3);
+	assert_true(sw_blob_param(f.payload, 18) == 7.0f);
+}
+
+static void test_import_board_kw(void **state)
+{
+	static uint8_t img[SW_BOARD_EEPROM_SIZE];
+	struct ctx *c = *state;
+	uint8_t blob[SW_BLOB_SIZE];
+	struct sw_file f;
+
+	fake_board_image(img, SW_BOARD_KW);
+	fake_fill_blob(blob);
+	/* The default layout finds nothing, and says where to look. */
+	assert_int_equal(import_image(c, img, sizeof(img), SW_BOARD_GT, false),
+			 SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg, "--layout kw"));
+	assert_nothing_written(c);
+	assert_int_equal(import_image(c, img, sizeof(img), SW_BOARD_KW, false),
+			 SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_memory_equal(f.payload, blob, SW_BLOB_SIZE);
+}
+
+static void test_import_board_refusals(void **state)
+{
+	static uint8_t img[SW_BOARD_EEPROM_SIZE];
+	struct ctx *c = *state;
+	struct sw_opts o = c->o;
+
+	/* A blank (erased) EEPROM. */
+	memset(img, 0xff, sizeof(img));
+	assert_int_equal(import_image(c, img, sizeof(img), SW_BOARD_GT, false),
+			 SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg,
+			       "refused: no calibration saved (erased) (bytes 0x8000..0x808b are all 0xff); nothing written"));
+	assert_nothing_written(c);
+
+	/* The utility's marker damaged. */
+	fake_board_image(img, SW_BOARD_GT);
+	img[0x8098] = 0xab;
+	assert_int_equal(import_image(c, img, sizeof(img), SW_BOARD_GT, true),
+			 SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg,
+			       "refused: no valid-block marker (byte 0x8098 is 0xab, not 0xaa)"));
+	assert_nothing_written(c);
+
+	/* A parameter that is not a number. */
+	fake_board_image(img, SW_BOARD_GT);
+	sw_put_le32(img + 0x8000 + 4 * 20, 0x7fc00000);
+	assert_int_equal(import_image(c, img, sizeof(img), SW_BOARD_GT, true),
+			 SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg,
+			       "refused: non-finite float (parameter 21"));
+	assert_nothing_written(c);
+
+	/* A dump cut short inside the block; an empty one. */
+	fake_board_image(img, SW_BOARD_GT);
+	assert_int_equal(import_image(c, img, 0x8050, SW_BOARD_GT, true),
+			 SW_EXIT_FILE);
+	assert_non_null(strstr(c->e.msg, "refused: image too short (32848 bytes"));
+	assert_nothing_written(c);
+	assert_int_equal(import_image(c, img, 0, SW_BOARD_GT, true),
+			 SW_EXIT_FILE);
+	assert_nothing_written(c);
+
+	/* No image at all. */
+	o.image = "/nonexistent/eeprom";
+	sw_err_clear(&c->e);
+	assert_int_equal(sw_cmd_import_board(&c->fb.b, &o, &c->env, &c->e),
+			 SW_EXIT_NOFILE);
+	assert_non_null(strstr(c->e.msg, "EEPROM image /nonexistent/eeprom does not exist"));
+	assert_nothing_written(c);
+	assert_int_equal(c->fb.writes, 0);
+}
+
+static void test_import_board_keeps_saved(void **state)
+{
+	static uint8_t img[SW_BOARD_EEPROM_SIZE];
+	struct ctx *c = *state;
+	uint8_t before[SW_FILE_SIZE], after[SW_FILE_SIZE];
+	uint8_t blob[SW_BLOB_SIZE];
+	struct sw_file f;
+	FILE *fp;
+
+	/* A calibration saved here first. */
+	c->fb.cs.score_raw = sw_score_raw(2.9);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	fp = fopen(c->path, "r");
+	assert_int_equal(fread(before, 1, sizeof(before), fp), sizeof(before));
+	fclose(fp);
+
+	/* Without --force it stays, byte for byte; the command succeeds. */
+	fake_board_image(img, SW_BOARD_GT);
+	sw_blob_set_param(img + 0x8000, 5, 123.0f);
+	assert_int_equal(import_image(c, img, sizeof(img), SW_BOARD_GT, false),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c),
+			       "not importing the board's calibration for iio:device0"));
+	assert_non_null(strstr(out_text(c), "(--force replaces it)"));
+	fp = fopen(c->path, "r");
+	assert_int_equal(fread(after, 1, sizeof(after), fp), sizeof(after));
+	fclose(fp);
+	assert_memory_equal(before, after, sizeof(before));
+
+	/* With --force the board's calibration replaces it. */
+	assert_int_equal(import_image(c, img, sizeof(img), SW_BOARD_GT, true),
+			 SW_EXIT_OK);
+	assert_true(load(c, &f));
+	fake_fill_blob(blob);
+	sw_blob_set_param(blob, 5, 123.0f);
+	assert_memory_equal(f.payload, blob, SW_BLOB_SIZE);
+	assert_int_equal(f.cal_status, 0);
+}
+
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
 
 int main(void)
@@ -1451,6 +1641,10 @@ int main(void)
 		T(test_watch_margin_zero),
 		T(test_watch_state_dir_repaired),
 		T(test_watch_saves_offsets),
+		T(test_import_board),
+		T(test_import_board_kw),
+		T(test_import_board_refusals),
+		T(test_import_board_keeps_saved),
 	};
 
 	return cmocka_run_group_tests_name("commands", tests, NULL, NULL);

@@ -182,6 +182,29 @@ static void test_offsets(void **state)
 	assert_int_equal(sw_policy_save(&in, why, sizeof(why)), SW_SAVE_NOTHING);
 }
 
+static void test_import(void **state)
+{
+	struct sw_policy_in in = { .old_status = 3,
+				   .old_score_raw = sw_score_raw(2.5) };
+	char why[256];
+
+	(void)state;
+	/* No usable file: the board's calibration is taken. */
+	assert_int_equal(sw_policy_import(&in, why, sizeof(why)), SW_SAVE_BLOB);
+	/* A saved one, good or not, is not judged against no score. */
+	in.have_old = true;
+	assert_int_equal(sw_policy_import(&in, why, sizeof(why)),
+			 SW_SAVE_NOTHING);
+	assert_non_null(strstr(why, "(status 3, score 2.4"));
+	assert_non_null(strstr(why, "--force replaces it"));
+	in.old_status = 0;
+	in.old_score_raw = 0xffff;
+	assert_int_equal(sw_policy_import(&in, why, sizeof(why)),
+			 SW_SAVE_NOTHING);
+	in.force = true;
+	assert_int_equal(sw_policy_import(&in, why, sizeof(why)), SW_SAVE_BLOB);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -193,6 +216,7 @@ int main(void)
 		cmocka_unit_test(test_force),
 		cmocka_unit_test(test_improve_only),
 		cmocka_unit_test(test_offsets),
+		cmocka_unit_test(test_import),
 	};
 
 	return cmocka_run_group_tests_name("policy", tests, NULL, NULL);
