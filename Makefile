@@ -71,12 +71,12 @@ check-long: prepare tool
 	VERSIONS="$(VERSIONS)" LONG=1 tests/run-suites
 
 # The demo boots the primary kernel only.
-demo: VERSIONS = 6.12
+demo: VERSIONS = 7.2
 demo: uml tool
 	tests/demo
 
 # Figures against DESIGN §6 on the primary kernel (build/bench.json).
-bench: VERSIONS = 6.12
+bench: VERSIONS = 7.2
 bench: uml tool
 	tests/bench/bench
 
