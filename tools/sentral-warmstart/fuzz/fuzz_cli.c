@@ -43,6 +43,8 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 		abort();
 	if (o->file && !in_argv(o->file, argc, argv))
 		abort();
+	if (o->image && !in_argv(o->image, argc, argv))
+		abort();
 	if (strcmp(o->state_dir, SW_STATE_DIR) != 0 &&
 	    !in_argv(o->state_dir, argc, argv))
 		abort();
@@ -51,7 +53,10 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 		return;
 	if (!*o->state_dir || (o->file && !*o->file))
 		abort();
-	if (o->cmd == SW_CMD_NONE || o->cmd > SW_CMD_WATCH)
+	if (o->cmd == SW_CMD_NONE || o->cmd > SW_CMD_IMPORT_BOARD)
+		abort();
+	/* import-board, and only it, reads an IMAGE */
+	if ((o->cmd == SW_CMD_IMPORT_BOARD) != (o->image && *o->image))
 		abort();
 	/* over i2c-dev each look at the offsets would be a parameter transfer */
 	if (o->cmd == SW_CMD_WATCH && o->i2c_dev)

@@ -111,6 +111,7 @@ static void cli_seeds(void)
 	ARGV("calibrate", "calibrate\0--timeout\0" "60\0--target-score=2.5\0--max-score\0" "5");
 	ARGV("accel-cal", "--state-dir=/tmp/s\0accel-cal\0--samples\0" "128\0--no-save");
 	ARGV("show", "show\0/tmp/x.ws");
+	ARGV("import-board", "import-board\0/sys/bus/nvmem/devices/1-00500/nvmem\0--layout\0kw\0--force");
 	ARGV("watch", "watch\0--interval\0" "60\0--margin=0.25\0--max-score\0" "4\0--poll\0" "5");
 	ARGV("help", "-hV");
 	ARGV("cluster", "-dfoo\0status");
