@@ -74,9 +74,16 @@ state=$(mktemp -d "${TMPDIR:-/tmp}/sentral-boot.XXXXXX")
 trap 'rm -rf "$state"' EXIT
 chmod 0700 "$state"
 # One boot running this script's stage NAME inside; its checks are shown.
+# The boots that compare the chip's blob with a file after a restore hold
+# the simulator's gyro-bias learning: a still chip learns parameters 33-35
+# two seconds after power-on, on a loaded host before the comparison.
 boot() {
-	local desc=$1 name=$2 out rc
-	out=$("$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --state "$state" -- \
+	local desc=$1 name=$2 out rc knobs=()
+	case $name in
+	second|fourth) knobs=(--sim-knobs gbias_period_ms=3600000) ;;
+	esac
+	out=$("$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --state "$state" \
+		"${knobs[@]}" -- \
 		"$SENTRAL_ROOT/tests/e2e/boot-warmstart.sh" --inside "$name" 2>&1)
 	rc=$?
 	sed 's/^/#   /' <<<"$out"
