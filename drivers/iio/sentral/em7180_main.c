@@ -108,7 +108,7 @@ enum em7180_scan {
 	EM7180_SCAN_MAGN_X, EM7180_SCAN_MAGN_Y, EM7180_SCAN_MAGN_Z,
 	EM7180_SCAN_ACCEL_X, EM7180_SCAN_ACCEL_Y, EM7180_SCAN_ACCEL_Z,
 	EM7180_SCAN_ANGLVEL_X, EM7180_SCAN_ANGLVEL_Y, EM7180_SCAN_ANGLVEL_Z,
-	/* With feature sensors, theirs first (em7180_feature.c) */
+	/* Feature sensors (em7180_feature.c) from here, then the timestamp */
 	EM7180_SCAN_TIMESTAMP,
 };
 
