@@ -18,22 +18,26 @@
 #include <linux/workqueue.h>
 
 #define EM7180_REG_QX			0x00	/* float32 x, y, z, w */
+#define EM7180_REG_FEATURE0		0x2A	/* feature data and TIME, to 0x31 */
 #define EM7180_REG_QRATE_DIVISOR	0x32
 #define EM7180_REG_ENABLE_EVENTS	0x33
 #define EM7180_REG_HOST_CTRL		0x34
 #define EM7180_REG_SENTRAL_STATUS	0x37
 #define EM7180_REG_ALGO_STATUS		0x38
+#define EM7180_REG_FEATURE_FLAGS	0x39
 #define EM7180_REG_PARAM_ACK		0x3A
 #define EM7180_REG_SAVED_PARAM		0x3B	/* 0x3B..0x3E, u32 LE */
 #define EM7180_REG_CAL_STATUS		0x43
 #define EM7180_REG_CAL_FLAGS		0x44	/* latched, clear on read */
 #define EM7180_REG_CAL_SCORE		0x4D	/* 0x4D..0x4E, u16 LE */
 #define EM7180_CAL_BLOCK_LEN		(EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS)
+#define EM7180_REG_ACTUAL_FEATURE0	0x48	/* 0x48..0x4A, Hz */
 #define EM7180_REG_ERROR		0x50
 #define EM7180_REG_ALGO_CTRL		0x54
 #define EM7180_REG_MAG_RATE		0x55
 #define EM7180_REG_ACCEL_RATE		0x56
 #define EM7180_REG_GYRO_RATE		0x57
+#define EM7180_REG_FEATURE_RATE0	0x58	/* 0x58..0x5A */
 #define EM7180_REG_LOAD_PARAM		0x60	/* 0x60..0x63, u32 LE */
 #define EM7180_REG_PARAM_REQ		0x64
 #define EM7180_REG_ROM_VERSION		0x70
@@ -42,6 +46,7 @@
 
 #define EM7180_HOST_CTRL_RUN		BIT(0)
 #define EM7180_EVENT_ERROR		BIT(1)
+#define EM7180_EVENT_FEATURE		BIT(6)
 #define EM7180_SENTRAL_UPLOAD_DONE	BIT(1)
 #define EM7180_SENTRAL_STANDBY		BIT(3)
 #define EM7180_ALGO_CTRL_STANDBY	BIT(0)
@@ -60,8 +65,21 @@
 #define EM7180_WS_NUM_PARAMS		35
 #define EM7180_WS_SIZE			(EM7180_WS_NUM_PARAMS * 4)
 
-/* Quaternion, magnetometer, accelerometer, gyroscope, each with its TIME */
-#define EM7180_BURST_LEN		0x2A
+/*
+ * Quaternion, magnetometer, accelerometer, gyroscope, each with its TIME,
+ * then the feature sensors' data and TIME
+ */
+#define EM7180_BURST_LEN		(EM7180_REG_FEATURE0 + 8)
+#define EM7180_FEATURE_MAX		3
+
+/* A feature sensor: barometer, humidity or temperature (em7180_feature.c) */
+struct em7180_feature {
+	enum iio_chan_type type;
+	u8 slot;		/* rate 0x58 + slot, actual rate 0x48 + slot */
+	u8 data_reg;
+	u8 end_reg;		/* after its data and TIME */
+	unsigned int scan_index;
+};
 
 /* Calibration block as last read: 0x43, 0x4D | 0x4E << 8, 0x44 */
 struct em7180_cal {
@@ -101,6 +119,10 @@ struct em7180_data {
 	bool accel_offset_valid;
 	u32 accel_offset[3];
 	unsigned int pace_event;	/* the EventStatus bit pacing scans */
+	const struct em7180_feature *pace_feature;	/* for bit 6 */
+	/* The feature sensors FeatureFlags announced at probe, slot order */
+	struct em7180_feature features[EM7180_FEATURE_MAX];
+	unsigned int n_features;
 	unsigned int last_error;	/* SensorStatus << 8 | ErrorRegister */
 	struct delayed_work recover_work;
 	bool xfer_stuck;		/* AlgorithmControl bit 7 may be set */
@@ -125,7 +147,8 @@ struct em7180_data {
 	u8 last_burst[EM7180_BURST_LEN];
 	bool last_valid;
 	struct {
-		s16 chans[4 + 9];	/* quaternion Q14, then le16 words */
+		/* quaternion Q14, then le16 words */
+		s16 chans[4 + 9 + EM7180_FEATURE_MAX];
 		aligned_s64 ts;
 	} scan;
 };
@@ -176,5 +199,28 @@ void em7180_check_status(struct em7180_data *data);
 void em7180_recover_schedule(struct em7180_data *data);
 int em7180_chip_recover(struct em7180_data *data);
 void em7180_report_error(struct em7180_data *data);
+
+/* em7180_feature.c: barometer, humidity and temperature */
+int em7180_feature_layout(unsigned int flags, struct em7180_feature *feat);
+void em7180_feature_channels(const struct iio_chan_spec *base,
+			     unsigned int n_base,
+			     const struct em7180_feature *feat,
+			     unsigned int n_feat, struct iio_chan_spec *chans);
+int em7180_feature_probe(struct iio_dev *indio_dev,
+			 const struct iio_chan_spec *base, unsigned int n_base);
+int em7180_feature_configure(struct em7180_data *data, bool from_cache);
+const struct em7180_feature *em7180_feature_find(struct em7180_data *data,
+						 enum iio_chan_type type);
+int em7180_feature_read_info(struct em7180_data *data,
+			     const struct em7180_feature *f, int *vals,
+			     long mask);
+int em7180_feature_read_freq(struct em7180_data *data,
+			     const struct em7180_feature *f, int *hz);
+int em7180_feature_write_freq(struct em7180_data *data,
+			      const struct em7180_feature *f, int hz);
+int em7180_feature_read_avail(const int **vals, int *type, int *length);
+void em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
+			 unsigned int *best, unsigned int *event);
+int em7180_feature_report(struct em7180_data *data);
 
 #endif /* _EM7180_CORE_H_ */

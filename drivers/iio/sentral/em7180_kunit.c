@@ -1340,8 +1340,102 @@ static void em7180_test_fw_listed(struct kunit *test)
 	KUNIT_EXPECT_FALSE(test, em7180_fw_listed(0x0D17, NULL, 0));
 }
 
+struct em7180_test_layout {
+	unsigned int flags;
+	int n;
+	struct em7180_feature feat[EM7180_FEATURE_MAX];	/* without scan_index */
+};
+
+/* Slots in FeatureFlags' bit order; the data layout by the number of slots */
+static void em7180_test_feature_layout(struct kunit *test)
+{
+	static const struct em7180_test_layout cases[] = {
+		{ 0x00, 0 },
+		/* the USFS: Baro 0x2A, BaroTIME 0x2C, Temp 0x2E, TempTIME 0x30 */
+		{ 0x05, 2, { { IIO_PRESSURE, 0, 0x2A, 0x2E },
+			     { IIO_TEMP, 1, 0x2E, 0x32 } } },
+		{ 0x04, 1, { { IIO_TEMP, 0, 0x2A, 0x2E } } },
+		/* three slots: three data words, one TIME at 0x30 */
+		{ 0x07, 3, { { IIO_PRESSURE, 0, 0x2A, 0x32 },
+			     { IIO_HUMIDITYRELATIVE, 1, 0x2C, 0x32 },
+			     { IIO_TEMP, 2, 0x2E, 0x32 } } },
+		/* a custom sensor takes a slot after them, and no channel */
+		{ 0x09, 1, { { IIO_PRESSURE, 0, 0x2A, 0x2E } } },
+		{ 0x0D, 2, { { IIO_PRESSURE, 0, 0x2A, 0x32 },
+			     { IIO_TEMP, 1, 0x2C, 0x32 } } },
+		/* bits 6 and 7 are no sensors */
+		{ 0xC5, 2, { { IIO_PRESSURE, 0, 0x2A, 0x2E },
+			     { IIO_TEMP, 1, 0x2E, 0x32 } } },
+		{ 0x0F, -E2BIG },
+		{ 0x3F, -E2BIG },
+	};
+	struct em7180_feature feat[EM7180_FEATURE_MAX];
+	const struct em7180_test_layout *c;
+	int i, n;
+
+	for (c = cases; c < cases + ARRAY_SIZE(cases); c++) {
+		memset(feat, 0, sizeof(feat));
+		n = em7180_feature_layout(c->flags, feat);
+		KUNIT_EXPECT_EQ_MSG(test, n, c->n, "flags 0x%02x", c->flags);
+		for (i = 0; i < c->n; i++) {
+			KUNIT_EXPECT_EQ_MSG(test, feat[i].type, c->feat[i].type,
+					    "flags 0x%02x #%d", c->flags, i);
+			KUNIT_EXPECT_EQ_MSG(test, feat[i].slot, c->feat[i].slot,
+					    "flags 0x%02x #%d", c->flags, i);
+			KUNIT_EXPECT_EQ_MSG(test, feat[i].data_reg,
+					    c->feat[i].data_reg,
+					    "flags 0x%02x #%d", c->flags, i);
+			KUNIT_EXPECT_EQ_MSG(test, feat[i].end_reg,
+					    c->feat[i].end_reg,
+					    "flags 0x%02x #%d", c->flags, i);
+		}
+	}
+}
+
+/* The feature channels go between the others and the timestamp */
+static void em7180_test_feature_channels(struct kunit *test)
+{
+	static const struct iio_chan_spec base[] = {
+		{ .type = IIO_ACCEL, .address = 0x1A, .scan_index = 0 },
+		{ .type = IIO_ACCEL, .address = 0x1C, .scan_index = 1 },
+		IIO_CHAN_SOFT_TIMESTAMP(2),
+	};
+	struct iio_chan_spec chans[ARRAY_SIZE(base) + EM7180_FEATURE_MAX];
+	struct em7180_feature feat[EM7180_FEATURE_MAX];
+	int n = em7180_feature_layout(0x05, feat);
+
+	KUNIT_ASSERT_EQ(test, n, 2);
+	em7180_feature_channels(base, ARRAY_SIZE(base), feat, n, chans);
+
+	KUNIT_EXPECT_EQ(test, chans[0].address, 0x1A);
+	KUNIT_EXPECT_EQ(test, chans[1].scan_index, 1);
+
+	KUNIT_EXPECT_EQ(test, chans[2].type, IIO_PRESSURE);
+	KUNIT_EXPECT_EQ(test, chans[2].address, 0x2A);
+	KUNIT_EXPECT_EQ(test, chans[2].scan_index, 2);
+	KUNIT_EXPECT_TRUE(test, chans[2].info_mask_separate &
+			  BIT(IIO_CHAN_INFO_OFFSET));
+	KUNIT_EXPECT_TRUE(test, chans[2].info_mask_separate_available &
+			  BIT(IIO_CHAN_INFO_SAMP_FREQ));
+	KUNIT_EXPECT_EQ(test, chans[2].scan_type.sign, 's');
+	KUNIT_EXPECT_EQ(test, chans[2].scan_type.storagebits, 16);
+	KUNIT_EXPECT_EQ(test, chans[2].scan_type.endianness, IIO_LE);
+
+	KUNIT_EXPECT_EQ(test, chans[3].type, IIO_TEMP);
+	KUNIT_EXPECT_EQ(test, chans[3].address, 0x2E);
+	KUNIT_EXPECT_EQ(test, chans[3].scan_index, 3);
+	KUNIT_EXPECT_FALSE(test, chans[3].info_mask_separate &
+			   BIT(IIO_CHAN_INFO_OFFSET));
+
+	KUNIT_EXPECT_EQ(test, chans[4].type, IIO_TIMESTAMP);
+	KUNIT_EXPECT_EQ(test, chans[4].scan_index, 4);
+	KUNIT_EXPECT_EQ(test, chans[4].scan_type.storagebits, 64);
+}
+
 static struct kunit_case em7180_format_cases[] = {
 	KUNIT_CASE(em7180_test_fw_listed),
+	KUNIT_CASE(em7180_test_feature_layout),
+	KUNIT_CASE(em7180_test_feature_channels),
 	KUNIT_CASE(em7180_test_float_table1),
 	KUNIT_CASE(em7180_test_float_lsb),
 	KUNIT_CASE(em7180_test_float_rounding),

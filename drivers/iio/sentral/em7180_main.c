@@ -71,7 +71,7 @@
 #define EM7180_EVENT_MAG		BIT(3)
 #define EM7180_EVENT_ACCEL		BIT(4)
 #define EM7180_EVENT_GYRO		BIT(5)
-#define EM7180_EVENT_DATA		GENMASK(5, 2)
+#define EM7180_EVENT_DATA		GENMASK(6, 2)
 #define EM7180_EVENT_ALWAYS		(EM7180_EVENT_CPU_RESET | EM7180_EVENT_ERROR)
 
 #define EM7180_SENTRAL_UPLOAD_ERR	BIT(2)
@@ -108,6 +108,7 @@ enum em7180_scan {
 	EM7180_SCAN_MAGN_X, EM7180_SCAN_MAGN_Y, EM7180_SCAN_MAGN_Z,
 	EM7180_SCAN_ACCEL_X, EM7180_SCAN_ACCEL_Y, EM7180_SCAN_ACCEL_Z,
 	EM7180_SCAN_ANGLVEL_X, EM7180_SCAN_ANGLVEL_Y, EM7180_SCAN_ANGLVEL_Z,
+	/* Feature sensors (em7180_feature.c) from here, then the timestamp */
 	EM7180_SCAN_TIMESTAMP,
 };
 
@@ -457,9 +458,12 @@ static int em7180_read_raw_multi(struct iio_dev *indio_dev,
 				 long mask)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
+	const struct em7180_feature *f = em7180_feature_find(data, chan->type);
 	int ret;
 
 	*val_len = 2;
+	if (f && mask != IIO_CHAN_INFO_RAW)
+		return em7180_feature_read_info(data, f, vals, mask);
 
 	switch (mask) {
 	case IIO_CHAN_INFO_RAW:
@@ -503,6 +507,8 @@ static int em7180_read_avail(struct iio_dev *indio_dev,
 
 	if (mask != IIO_CHAN_INFO_SAMP_FREQ)
 		return -EINVAL;
+	if (em7180_feature_find(iio_priv(indio_dev), chan->type))
+		return em7180_feature_read_avail(vals, type, length);
 
 	*type = IIO_VAL_INT;
 	*vals = s->freq_avail;
@@ -515,6 +521,7 @@ static int em7180_write_raw(struct iio_dev *indio_dev,
 			    int val, int val2, long mask)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
+	const struct em7180_feature *f = em7180_feature_find(data, chan->type);
 	int ret;
 
 	if (val2)
@@ -525,7 +532,8 @@ static int em7180_write_raw(struct iio_dev *indio_dev,
 
 	switch (mask) {
 	case IIO_CHAN_INFO_SAMP_FREQ:
-		ret = em7180_write_freq(data, em7180_sensor_of(chan->type), val);
+		ret = f ? em7180_feature_write_freq(data, f, val) :
+		      em7180_write_freq(data, em7180_sensor_of(chan->type), val);
 		break;
 	case IIO_CHAN_INFO_CALIBBIAS:
 		ret = em7180_write_calibbias(data,
@@ -832,21 +840,28 @@ static const struct iio_info em7180_info = {
 /*
  * The registers a scan of @mask reads in one burst, 0 for the timestamp
  * alone, up to the TIME register of its last sensor: the quaternion's ends
- * at 0x12, each vector's block is 8 bytes from there.
+ * at 0x12, each vector's block is 8 bytes from there, a feature sensor's
+ * depends on how many there are.
  */
-static unsigned int em7180_scan_span(const unsigned long *mask,
+static unsigned int em7180_scan_span(struct iio_dev *indio_dev,
+				     const unsigned long *mask,
 				     unsigned int *start)
 {
-	unsigned int lo = find_first_bit(mask, EM7180_SCAN_TIMESTAMP);
-	unsigned int hi = find_last_bit(mask, EM7180_SCAN_TIMESTAMP);
+	struct em7180_data *data = iio_priv(indio_dev);
+	const struct iio_chan_spec *chans = indio_dev->channels;
+	unsigned int n = EM7180_SCAN_TIMESTAMP + data->n_features;
+	unsigned int lo = find_first_bit(mask, n);
+	unsigned int hi = find_last_bit(mask, n);
 	unsigned int end = EM7180_REG_MX;
 
-	if (lo >= EM7180_SCAN_TIMESTAMP)
+	if (lo >= n)
 		return 0;
 
-	if (hi != EM7180_SCAN_QUAT)
-		end += round_up(em7180_channels[hi].address + 1 - EM7180_REG_MX, 8);
-	*start = em7180_channels[lo].address;
+	if (hi >= EM7180_SCAN_TIMESTAMP)
+		end = em7180_feature_find(data, chans[hi].type)->end_reg;
+	else if (hi != EM7180_SCAN_QUAT)
+		end += round_up(chans[hi].address + 1 - EM7180_REG_MX, 8);
+	*start = chans[lo].address;
 	return end - *start;
 }
 
@@ -857,10 +872,11 @@ static unsigned int em7180_scan_span(const unsigned long *mask,
  * chip's own trigger (@own) such a repeat is not fresh. Any other trigger
  * samples whatever the chip holds.
  */
-static int em7180_scan_read(struct em7180_data *data,
+static int em7180_scan_read(struct iio_dev *indio_dev,
 			    const unsigned long *mask, bool own, bool *fresh)
 {
-	unsigned int start = 0, len = em7180_scan_span(mask, &start);
+	struct em7180_data *data = iio_priv(indio_dev);
+	unsigned int start = 0, len = em7180_scan_span(indio_dev, mask, &start);
 	int ret;
 
 	lockdep_assert_held(&data->lock);
@@ -888,9 +904,9 @@ static void em7180_scan_push(struct iio_dev *indio_dev,
 	const u8 *src;
 	int i;
 
-	em7180_scan_span(mask, &start);
-	for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP) {
-		src = &data->burst[em7180_channels[bit].address - start];
+	em7180_scan_span(indio_dev, mask, &start);
+	for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP + data->n_features) {
+		src = &data->burst[indio_dev->channels[bit].address - start];
 		if (bit != EM7180_SCAN_QUAT) {
 			memcpy(&data->scan.chans[pos++], src, 2);
 			continue;
@@ -931,7 +947,7 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 
 	scoped_guard(mutex, &data->lock) {
 		if (seq == data->xfer_seq)
-			ret = em7180_scan_read(data, mask, false, &fresh);
+			ret = em7180_scan_read(indio_dev, mask, false, &fresh);
 	}
 	if (!ret)
 		em7180_scan_push(indio_dev, mask, pf->timestamp);
@@ -1006,7 +1022,7 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 			scan = true;
 			data->scan_seq = data->xfer_seq;
 			if (seq == data->xfer_seq)
-				scan_ret = em7180_scan_read(data,
+				scan_ret = em7180_scan_read(indio_dev,
 							    indio_dev->active_scan_mask,
 							    true, &fresh);
 		}
@@ -1055,6 +1071,7 @@ static unsigned int em7180_pace_event(struct em7180_data *data,
 			event = s->event;
 		}
 	}
+	em7180_feature_pace(data, mask, &best, &event);
 
 	return event;
 }
@@ -1074,7 +1091,8 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 		if (!state)
 			wake_up_all(&data->scan_wq);
 		data->last_valid = false;
-		ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
+		ret = em7180_feature_report(data) ?:
+		      regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
 				   EM7180_EVENT_ALWAYS | data->pace_event);
 		if (ret && !state)
 			ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
@@ -1114,7 +1132,10 @@ static ssize_t sampling_frequency_show(struct device *dev,
 		if (em7180_sensors[i].event == event)
 			break;
 
-	ret = em7180_read_freq(data, &em7180_sensors[i], &hz);
+	if (event == EM7180_EVENT_FEATURE)
+		ret = em7180_feature_read_freq(data, data->pace_feature, &hz);
+	else
+		ret = em7180_read_freq(data, &em7180_sensors[i], &hz);
 	if (ret < 0)
 		return ret;
 
@@ -1263,8 +1284,9 @@ static int em7180_chip_configure(struct em7180_data *data, bool from_cache)
 		{ EM7180_REG_HOST_CTRL, EM7180_HOST_CTRL_RUN },
 	};
 	unsigned int i, val;
-	int ret = 0;
+	int ret;
 
+	ret = em7180_feature_configure(data, from_cache);
 	for (i = 0; i < ARRAY_SIZE(seq) && !ret; i++) {
 		val = seq[i].def;
 		/* All but the transfer's end from the cache */
@@ -1430,6 +1452,11 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 		return ret;
 	em7180_cal_fw_check(data, true);
 
+	ret = em7180_feature_probe(indio_dev, em7180_channels,
+				   ARRAY_SIZE(em7180_channels));
+	if (ret)
+		return ret;
+
 	ret = em7180_chip_configure(data, false);
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to configure the chip\n");
@@ -1447,8 +1474,6 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;
-	indio_dev->channels = em7180_channels;
-	indio_dev->num_channels = ARRAY_SIZE(em7180_channels);
 	indio_dev->modes = INDIO_DIRECT_MODE;
 
 	ret = em7180_health_init(data);
