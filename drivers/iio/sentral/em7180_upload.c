@@ -235,6 +235,7 @@ int em7180_upload(struct em7180_data *data, int ret)
 
 	return ret;
 }
+EXPORT_SYMBOL_IF_KUNIT(em7180_upload);
 
 static void em7180_fw_release(void *fw)
 {
