@@ -12,7 +12,9 @@
 # chip out of upload mode, and a bind with a good image works after them.
 # The RAM version is the image's, data streams, the warm start transfers;
 # after a reset of the chip's own and a power loss in system sleep the
-# driver uploads again. With an EEPROM nothing is uploaded.
+# driver uploads again. With an EEPROM nothing is uploaded, unless the
+# client's firmware-name names an image, which then replaces the EEPROM's
+# firmware.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/lib/em7180.sh"
 
@@ -180,6 +182,43 @@ is "the EEPROM's firmware" \
 ok "capture" sh -c "iio_readdev -b 16 -s 20 em7180 >$T/cap4.bin"
 is "20 scans" "$(stat -c %s "$T/cap4.bin")" 800
 
+# A devicetree's firmware-name (the simulator's firmware_name parameter):
+# with an EEPROM the named image replaces the EEPROM's firmware
+MOD=$SENTRAL_MODROOT
+ok "unload the driver and the simulator" \
+	modprobe -d "$MOD" -r em7180_i2c em7180_core sentral_sim
+mark
+ok "load the simulator, firmware_name=board.fw" \
+	modprobe -d "$MOD" sentral_sim firmware_name=board.fw
+ok "load the driver" modprobe -d "$MOD" em7180_i2c
+ok "no board.fw: probe fails" wait_for 10 sh -c "dmesg | tail -n +$(($(cat "$T/mark") + 1)) | grep -q 'probe with driver em7180 failed'"
+like "  the log names the file and the property" "$(since | grep em7180)" \
+	'cannot load firmware board.fw \(firmware-name\): install it in the firmware directory'
+$PY "$MKFW" "$T/board.fw" --ram-version 0x0e43 --size 1024 --seed 7 >"$T/mkfw.out"
+crc=$(fw_crc)
+mark
+ok "board.fw installed: bind" bind
+DEV=$(em7180_dir)
+like "board.fw uploaded over the EEPROM's firmware" "$(since | grep em7180)" \
+	"firmware board.fw uploaded \(1024 bytes, CRC $crc\)"
+is "ram_version is board.fw's" "$(cat "$DEV/ram_version")" 0x0e43
+is "firmware from the host" "$(dbg_get board firmware)" host
+ok "capture" sh -c "iio_readdev -b 16 -s 20 em7180 >$T/cap5.bin"
+is "20 scans" "$(stat -c %s "$T/cap5.bin")" 800
+n=$(dmesg | grep -c 'firmware board.fw uploaded')
+knob chip_reset 1
+ok "after a reset (the EEPROM's firmware again) board.fw is uploaded again" \
+	wait_for 10 sh -c "[ \$(dmesg | grep -c 'firmware board.fw uploaded') -gt $n ]"
+ok "and the chip runs" wait_for 5 \
+	sh -c "[ \"\$(awk '\$1 == \"running\" { print \$2 }' $SIM_DBG/state)\" = 1 ]"
+is "board.fw's firmware" "$(cat "$DEV/ram_version") $(dbg_get board firmware)" \
+	"0x0e43 host"
+
+# Back as tests/uml/run leaves it, with an EEPROM
+ok "unload" modprobe -d "$MOD" -r em7180_i2c em7180_core sentral_sim
+ok "reload the simulator" modprobe -d "$MOD" sentral_sim
+ok "reload the driver" modprobe -d "$MOD" em7180_i2c
+ok "bound" wait_for 10 em7180_dir
 echo -n "" >"$FWPATH"
 rm -rf "$T"
 done_testing
