@@ -191,7 +191,8 @@ mark
 ok "load the simulator, firmware_name=board.fw" \
 	modprobe -d "$MOD" sentral_sim firmware_name=board.fw
 ok "load the driver" modprobe -d "$MOD" em7180_i2c
-ok "no board.fw: probe fails" wait_for 10 sh -c "dmesg | tail -n +$(($(cat "$T/mark") + 1)) | grep -q 'probe with driver em7180 failed'"
+ok "no board.fw: probe fails" wait_for 10 sh -c \
+	"dmesg | tail -n +$(($(cat "$T/mark") + 1)) | grep -q 'em7180 .*cannot load firmware board.fw'"
 like "  the log names the file and the property" "$(since | grep em7180)" \
 	'cannot load firmware board.fw \(firmware-name\): install it in the firmware directory'
 $PY "$MKFW" "$T/board.fw" --ram-version 0x0e43 --size 1024 --seed 7 >"$T/mkfw.out"
