@@ -49,6 +49,10 @@ static char *knobs;
 module_param(knobs, charp, 0444);
 MODULE_PARM_DESC(knobs, "debugfs knobs set on every chip before its client is created: name=value[,name=value...]");
 
+static char *firmware_name;
+module_param(firmware_name, charp, 0444);
+MODULE_PARM_DESC(firmware_name, "a firmware-name property for the em7180 clients, as a board's devicetree would give");
+
 /*
  * One adapter: a chip at 0x28, or a mux at 0x70 whose selected channel
  * (sel, under the adapter's bus lock) leads to chip[sel].
@@ -427,8 +431,9 @@ static void sim_chip_free(struct sentral_sim *sim)
  * and score where the application note says: the client says so, as a
  * board's devicetree would. The node is shared, counted by the driver core.
  */
-static const struct property_entry sim_em7180_props[] = {
+static struct property_entry sim_em7180_props[] = {
 	PROPERTY_ENTRY_U32("emmicro,calibration-firmware", SIM_RAM_VERSION),
+	{ },	/* firmware-name, if the parameter gives one */
 	{ }
 };
 
@@ -618,6 +623,9 @@ static int __init sim_init(void)
 	if (adapters < 1 || adapters > SIM_MAX_ADAPTERS ||
 	    mux_channels > SIM_MAX_CHANNELS)
 		return -EINVAL;
+	if (firmware_name)
+		sim_em7180_props[1] = PROPERTY_ENTRY_STRING("firmware-name",
+							    firmware_name);
 	ret = i2c_add_driver(&sim_mux_driver);
 	if (ret)
 		return ret;

@@ -42,9 +42,13 @@
 #define EM7180_REG_PARAM_REQ		0x64
 #define EM7180_REG_ROM_VERSION		0x70
 #define EM7180_REG_RAM_VERSION		0x72
+#define EM7180_REG_UPLOAD_ADDR		0x94	/* 0x94..0x95, u16 BE */
+#define EM7180_REG_UPLOAD_DATA		0x96
+#define EM7180_REG_CRC_HOST		0x97	/* 0x97..0x9A, u32 LE */
 #define EM7180_REG_RESET_REQ		0x9B
 
 #define EM7180_HOST_CTRL_RUN		BIT(0)
+#define EM7180_HOST_CTRL_UPLOAD		BIT(1)
 #define EM7180_EVENT_ERROR		BIT(1)
 #define EM7180_EVENT_FEATURE		BIT(6)
 #define EM7180_SENTRAL_UPLOAD_DONE	BIT(1)
@@ -90,6 +94,7 @@ struct em7180_cal {
 	unsigned long read_at;	/* jiffies */
 };
 
+struct firmware;
 struct iio_trigger;
 
 struct em7180_data {
@@ -133,6 +138,9 @@ struct em7180_data {
 	unsigned int watch_scans;
 	unsigned long status_at;	/* last SentralStatus read */
 	struct iio_mount_matrix orientation;
+	/* RAM firmware the host uploads (no EEPROM, or firmware-name) */
+	const struct firmware *fw;
+	const char *fw_name;
 	/* Scans and the parameter transfers they must not straddle */
 	s64 timestamp;
 	s64 scan_ts;
@@ -222,5 +230,11 @@ int em7180_feature_read_avail(const int **vals, int *type, int *length);
 void em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
 			 unsigned int *best, unsigned int *event);
 int em7180_feature_report(struct em7180_data *data);
+
+/* em7180_upload.c: firmware from the host */
+int em7180_fw_check(const u8 *image, size_t size, u16 rom, char *why,
+		    size_t len);
+int em7180_upload_probe(struct em7180_data *data, bool no_eeprom);
+int em7180_upload(struct em7180_data *data, int ret);
 
 #endif /* _EM7180_CORE_H_ */

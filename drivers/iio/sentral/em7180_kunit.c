@@ -12,6 +12,7 @@
 #include <linux/cleanup.h>
 #include <linux/device.h>
 #include <linux/errno.h>
+#include <linux/firmware.h>
 #include <linux/ktime.h>
 #include <linux/limits.h>
 #include <linux/module.h>
@@ -56,6 +57,9 @@ struct em7180_emu {
 	unsigned int ack_latency_us;
 	bool pending;
 	ktime_t req_time;
+	/* What UploadData received, the register pointer staying on it */
+	u8 upload[256];
+	unsigned int upload_len;
 };
 
 struct em7180_test {
@@ -151,6 +155,12 @@ static int emu_write(void *context, const void *buf, size_t count)
 		return -EIO;
 
 	emu_log(emu, true, b[0], b + 1, count - 1);
+	if (b[0] == EM7180_REG_UPLOAD_DATA) {
+		for (i = 1; i < count; i++)
+			if (emu->upload_len < sizeof(emu->upload))
+				emu->upload[emu->upload_len++] = b[i];
+		return 0;
+	}
 	for (i = 1, reg = b[0]; i < count; i++, reg = emu_next(emu, reg)) {
 		emu->regs[reg] = b[i];
 		req |= reg == EM7180_REG_PARAM_REQ;
@@ -1291,8 +1301,118 @@ static void em7180_test_pm_no_power_loss(struct kunit *test)
 	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &run, 1);
 }
 
+/* A .fw image of @len bytes of text 0x00, 0x01, ... and its CRC field */
+static struct firmware *test_upload_image(struct kunit *test, u16 len,
+					  u32 crc)
+{
+	struct firmware *fw = kunit_kzalloc(test, sizeof(*fw), GFP_KERNEL);
+	u8 *img = kunit_kzalloc(test, 16 + len, GFP_KERNEL);
+	unsigned int i;
+
+	KUNIT_ASSERT_NOT_NULL(test, fw);
+	KUNIT_ASSERT_NOT_NULL(test, img);
+	put_unaligned_le16(0x652a, &img[0]);
+	put_unaligned_le32(crc, &img[4]);
+	put_unaligned_le16(len, &img[12]);
+	for (i = 0; i < len; i++)
+		img[16 + i] = i;
+	fw->data = img;
+	fw->size = 16 + len;
+	return fw;
+}
+
+static int test_upload(struct em7180_test *t, int ret)
+{
+	guard(mutex)(&t->data.lock);
+	return em7180_upload(&t->data, ret);
+}
+
+/*
+ * UploadAddress 0 MSB first, HostControl upload, the text in 64-byte
+ * chunks with each word's bytes reversed, CRCHost, HostControl 0; the
+ * register cache keeps the HostControl that resume writes back.
+ */
+static void em7180_test_upload_sequence(struct kunit *test)
+{
+	static const u8 addr[] = { 0x00, 0x00 }, upload = 0x02, stop;
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	unsigned int i, val;
+
+	t->data.fw = test_upload_image(test, 136, 0xc0ffee01);
+	t->data.fw_name = "em7180.fw";
+	KUNIT_ASSERT_EQ(test, regmap_write(t->data.regmap, EM7180_REG_HOST_CTRL,
+					   EM7180_HOST_CTRL_RUN), 0);
+	put_unaligned_le32(0xc0ffee01, &emu->regs[EM7180_REG_CRC_HOST]);
+	emu->n_log = 0;
+
+	KUNIT_EXPECT_EQ(test, test_upload(t, -ENODEV), 0);
+	KUNIT_ASSERT_EQ(test, emu->n_log, 7U);
+	expect_xfer(test, emu, 0, true, EM7180_REG_UPLOAD_ADDR, addr, 2);
+	expect_xfer(test, emu, 1, true, EM7180_REG_HOST_CTRL, &upload, 1);
+	expect_xfer(test, emu, 2, true, EM7180_REG_UPLOAD_DATA, NULL, 64);
+	expect_xfer(test, emu, 3, true, EM7180_REG_UPLOAD_DATA, NULL, 64);
+	expect_xfer(test, emu, 4, true, EM7180_REG_UPLOAD_DATA, NULL, 8);
+	expect_xfer(test, emu, 5, false, EM7180_REG_CRC_HOST, NULL, 4);
+	expect_xfer(test, emu, 6, true, EM7180_REG_HOST_CTRL, &stop, 1);
+	KUNIT_ASSERT_EQ(test, emu->upload_len, 136U);
+	for (i = 0; i < 136; i++)
+		KUNIT_EXPECT_EQ_MSG(test, emu->upload[i], i ^ 3, "byte %u", i);
+
+	KUNIT_EXPECT_EQ(test, regmap_read(t->data.regmap, EM7180_REG_HOST_CTRL,
+					  &val), 0);
+	KUNIT_EXPECT_EQ(test, val, EM7180_HOST_CTRL_RUN);
+}
+
+/* A CRC mismatch and a bus error end upload mode all the same */
+static void em7180_test_upload_errors(struct kunit *test)
+{
+	static const u8 stop;
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	unsigned int val;
+
+	/* No image: a board with an EEPROM, nothing sent */
+	KUNIT_EXPECT_EQ(test, test_upload(t, 0), 0);
+	KUNIT_EXPECT_EQ(test, test_upload(t, -ENODEV), -ENODEV);
+	KUNIT_EXPECT_EQ(test, emu->n_log, 0U);
+
+	t->data.fw = test_upload_image(test, 256, 0xc0ffee01);
+	t->data.fw_name = "em7180.fw";
+	KUNIT_ASSERT_EQ(test, regmap_write(t->data.regmap, EM7180_REG_HOST_CTRL,
+					   EM7180_HOST_CTRL_RUN), 0);
+	put_unaligned_le32(0xc0ffee02, &emu->regs[EM7180_REG_CRC_HOST]);
+	emu->n_log = 0;
+	KUNIT_EXPECT_EQ(test, test_upload(t, -ENODEV), -EBADMSG);
+	KUNIT_EXPECT_EQ(test, emu->n_log, 2U + 4 + 1 + 1);
+	expect_xfer(test, emu, emu->n_log - 1, true, EM7180_REG_HOST_CTRL,
+		    &stop, 1);
+
+	/* The second chunk fails: no more chunks, no CRC, upload mode ends */
+	emu->n_log = 0;
+	emu->upload_len = 0;
+	emu->nack_at = emu->transactions + 4;
+	KUNIT_EXPECT_EQ(test, test_upload(t, 0), -EIO);
+	KUNIT_EXPECT_EQ(test, emu->n_log, 4U);
+	expect_xfer(test, emu, 3, true, EM7180_REG_HOST_CTRL, &stop, 1);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_HOST_CTRL], 0);
+
+	/* The end of upload mode fails once: it is written again */
+	emu->n_log = 0;
+	emu->nack_at = emu->transactions + 2 + 4 + 1 + 1;
+	KUNIT_EXPECT_EQ(test, test_upload(t, 0), -EBADMSG);
+	KUNIT_EXPECT_EQ(test, emu->n_log, 2U + 4 + 1 + 1);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_HOST_CTRL], 0);
+
+	KUNIT_EXPECT_EQ(test, regmap_read(t->data.regmap, EM7180_REG_HOST_CTRL,
+					  &val), 0);
+	KUNIT_EXPECT_EQ(test, val, EM7180_HOST_CTRL_RUN);
+}
+
 static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_read_sequence),
+	KUNIT_CASE(em7180_test_upload_sequence),
+	KUNIT_CASE(em7180_test_upload_errors),
 	KUNIT_CASE(em7180_test_param_write_sequence),
 	KUNIT_CASE(em7180_test_param_batch),
 	KUNIT_CASE(em7180_test_param_stale_ack),
@@ -1432,6 +1552,84 @@ static void em7180_test_feature_channels(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, chans[4].scan_type.storagebits, 64);
 }
 
+/* A .fw image: the 16-byte header, then text_len bytes of text */
+static u8 *test_fw_image(struct kunit *test, u16 magic, u16 flags,
+			 u16 text_len, size_t size)
+{
+	u8 *img = kunit_kzalloc(test, max_t(size_t, size, 16), GFP_KERNEL);
+
+	KUNIT_ASSERT_NOT_NULL(test, img);
+	put_unaligned_le16(magic, &img[0]);
+	put_unaligned_le16(flags, &img[2]);
+	put_unaligned_le32(0x12345678, &img[4]);
+	put_unaligned_le16(text_len, &img[12]);
+	return img;
+}
+
+#define TEST_FW_CHECK(img, size, rom, ret, msg) do {			\
+	char why[96] = "";						\
+	KUNIT_EXPECT_EQ(test, em7180_fw_check(img, size, rom, why,	\
+					      sizeof(why)), ret);	\
+	KUNIT_EXPECT_STREQ(test, why, msg);				\
+} while (0)
+
+static void em7180_test_fw_check(struct kunit *test)
+{
+	const u16 di01 = 0x07a8, di02 = 0x09e6;
+	u8 *img;
+	size_t size;
+
+	/* ROM code in flags bits 14:11: 0 any, 1 DI01, 2 DI02 */
+	img = test_fw_image(test, 0x652a, 2 << 11, 2048, 16 + 2048);
+	TEST_FW_CHECK(img, 16 + 2048, di02, 0, "");
+	/* bytes after the text are not sent, as em718x_core.c does */
+	TEST_FW_CHECK(img, 16 + 2048 + 4, di02, 0, "");
+	TEST_FW_CHECK(img, 16 + 2048, di01, -EINVAL,
+		      "built for ROM DI02 (0x09e6), the chip has ROM 0x07a8");
+	/* no_exec, the I2C clock and bit 15 do not matter */
+	img = test_fw_image(test, 0x652a, 0x8701 | 1 << 11, 64, 16 + 64);
+	TEST_FW_CHECK(img, 16 + 64, di01, 0, "");
+	TEST_FW_CHECK(img, 16 + 64, di02, -EINVAL,
+		      "built for ROM DI01 (0x07a8), the chip has ROM 0x09e6");
+	img = test_fw_image(test, 0x652a, 0, 64, 16 + 64);
+	TEST_FW_CHECK(img, 16 + 64, 0x1234, 0, "");
+	img = test_fw_image(test, 0x652a, 3 << 11, 64, 16 + 64);
+	TEST_FW_CHECK(img, 16 + 64, di02, -EINVAL,
+		      "built for unknown ROM code 3, the chip has ROM 0x09e6");
+
+	img = test_fw_image(test, 0x2a65, 2 << 11, 64, 16 + 64);
+	TEST_FW_CHECK(img, 16 + 64, di02, -EINVAL,
+		      "bad magic 0x2a65 (expected 0x652a): not a SENtral .fw image");
+
+	/* Every size short of the text, the header's included */
+	img = test_fw_image(test, 0x652a, 2 << 11, 64, 16 + 64);
+	for (size = 0; size < 16; size++) {
+		char msg[64];
+
+		snprintf(msg, sizeof(msg),
+			 "%zu bytes, shorter than the 16-byte header", size);
+		TEST_FW_CHECK(img, size, di02, -EINVAL, msg);
+	}
+	for (size = 16; size < 16 + 64; size++) {
+		char msg[64];
+
+		snprintf(msg, sizeof(msg),
+			 "truncated: %zu bytes of text, the header says 64",
+			 size - 16);
+		TEST_FW_CHECK(img, size, di02, -EINVAL, msg);
+	}
+
+	img = test_fw_image(test, 0x652a, 2 << 11, 0, 16);
+	TEST_FW_CHECK(img, 16, di02, -EINVAL,
+		      "text length 0 is not a whole number of 32-bit words");
+	img = test_fw_image(test, 0x652a, 2 << 11, 62, 16 + 62);
+	TEST_FW_CHECK(img, 16 + 62, di02, -EINVAL,
+		      "text length 62 is not a whole number of 32-bit words");
+	/* The largest text a u16 length gives */
+	img = test_fw_image(test, 0x652a, 2 << 11, 0xfffc, 16 + 0xfffc);
+	TEST_FW_CHECK(img, 16 + 0xfffc, di02, 0, "");
+}
+
 static struct kunit_case em7180_format_cases[] = {
 	KUNIT_CASE(em7180_test_fw_listed),
 	KUNIT_CASE(em7180_test_feature_layout),
@@ -1442,6 +1640,7 @@ static struct kunit_case em7180_format_cases[] = {
 	KUNIT_CASE(em7180_test_float_fixed),
 	KUNIT_CASE(em7180_test_score),
 	KUNIT_CASE(em7180_test_warmstart_check),
+	KUNIT_CASE(em7180_test_fw_check),
 	{ }
 };
 

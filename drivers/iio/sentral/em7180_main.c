@@ -56,9 +56,6 @@
 #define EM7180_REG_ACTUAL_GYRO_RATE	0x47
 #define EM7180_REG_PRODUCT_ID		0x90
 #define EM7180_REG_RUN_STATUS		0x92
-#define EM7180_REG_UPLOAD_ADDR		0x94
-#define EM7180_REG_UPLOAD_DATA		0x96
-#define EM7180_REG_CRC_HOST		0x97
 #define EM7180_REG_PASSTHRU_STATUS	0x9E
 #define EM7180_REG_SCL_LOW_CYCLES	0x9F
 #define EM7180_REG_PASSTHRU_CTRL	0xA0
@@ -117,8 +114,8 @@ static const struct regmap_range em7180_readable_ranges[] = {
 	regmap_reg_range(EM7180_REG_ALGO_CTRL, EM7180_REG_PARAM_REQ),
 	regmap_reg_range(EM7180_REG_ROM_VERSION, EM7180_REG_RAM_VERSION + 1),
 	regmap_reg_range(EM7180_REG_PRODUCT_ID, EM7180_REG_RUN_STATUS),
-	regmap_reg_range(EM7180_REG_UPLOAD_ADDR, EM7180_REG_UPLOAD_ADDR + 1),
-	regmap_reg_range(EM7180_REG_CRC_HOST, EM7180_REG_CRC_HOST + 3),
+	/* UploadData too: regmap writes only readable registers noinc */
+	regmap_reg_range(EM7180_REG_UPLOAD_ADDR, EM7180_REG_CRC_HOST + 3),
 	regmap_reg_range(EM7180_REG_PASSTHRU_STATUS, EM7180_REG_PASSTHRU_CTRL),
 };
 
@@ -140,6 +137,16 @@ static const struct regmap_access_table em7180_writeable_table = {
 	.n_yes_ranges = ARRAY_SIZE(em7180_writeable_ranges),
 };
 
+/* The firmware upload streams its text into UploadData */
+static const struct regmap_range em7180_noinc_ranges[] = {
+	regmap_reg_range(EM7180_REG_UPLOAD_DATA, EM7180_REG_UPLOAD_DATA),
+};
+
+static const struct regmap_access_table em7180_noinc_table = {
+	.yes_ranges = em7180_noinc_ranges,
+	.n_yes_ranges = ARRAY_SIZE(em7180_noinc_ranges),
+};
+
 /* Only the host's configuration registers keep what was written to them */
 static const struct regmap_range em7180_cached_ranges[] = {
 	regmap_reg_range(EM7180_REG_QRATE_DIVISOR, EM7180_REG_HOST_CTRL),
@@ -155,6 +162,7 @@ static const struct regmap_access_table em7180_volatile_table = {
 static const struct regmap_range em7180_precious_ranges[] = {
 	regmap_reg_range(EM7180_REG_EVENT_STATUS, EM7180_REG_EVENT_STATUS),
 	regmap_reg_range(EM7180_REG_CAL_FLAGS, EM7180_REG_CAL_FLAGS),
+	regmap_reg_range(EM7180_REG_UPLOAD_DATA, EM7180_REG_UPLOAD_DATA),
 };
 
 static const struct regmap_access_table em7180_precious_table = {
@@ -169,6 +177,7 @@ const struct regmap_config em7180_regmap_config = {
 	.max_register = EM7180_REG_PASSTHRU_CTRL,
 	.rd_table = &em7180_readable_table,
 	.wr_table = &em7180_writeable_table,
+	.wr_noinc_table = &em7180_noinc_table,
 	.volatile_table = &em7180_volatile_table,
 	.precious_table = &em7180_precious_table,
 	/*
@@ -1229,6 +1238,9 @@ static int em7180_wait_firmware(struct em7180_data *data,
 					status);
 		if (ret && err)
 			return err;
+		/* No reset brings an EEPROM: the host uploads, em7180_upload.c */
+		if (!ret && (*status & EM7180_SENTRAL_NO_EEPROM))
+			return -ENODEV;
 		if (!ret && (*status & EM7180_SENTRAL_UPLOAD_DONE) &&
 		    !(*status & EM7180_SENTRAL_UPLOAD_ERR))
 			return 0;
@@ -1437,10 +1449,15 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	ret = em7180_wait_firmware(data, &status);
 	if (!ret)
 		ret = em7180_check_alive(data, &status);
-	if (ret)
+	if (ret && ret != -ENODEV)
 		return dev_err_probe(dev, ret,
 				     "firmware not ready (SentralStatus 0x%02x)\n",
 				     status);
+
+	/* Without an EEPROM, or with a firmware-name: from the host */
+	ret = em7180_upload_probe(data, ret == -ENODEV);
+	if (ret)
+		return ret;
 
 	ret = em7180_read_versions(data);
 	if (ret)
@@ -1596,6 +1613,8 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 	data->ack_min_us = 0;
 
 	ret = em7180_wait_firmware(data, &status);
+	if (!ret || ret == -ENODEV)
+		ret = em7180_upload(data, ret);
 	if (ret) {
 		dev_err(data->dev,
 			"firmware not ready after a power loss (SentralStatus 0x%02x): %d\n",
