@@ -112,7 +112,7 @@ static inline int iio_push_to_buffers_with_ts(struct iio_dev *indio_dev,
 }
 #endif
 
-/* i2c_mux_add_adapter() lost its class argument in 6.10 */
+/* i2c_mux_add_adapter() lost its class argument in 6.10 (fec1982d7072) */
 #if KERNEL_VERSION(6, 10, 0) <= LINUX_VERSION_CODE
 #define em7180_i2c_mux_add_adapter(muxc, nr, chan)	i2c_mux_add_adapter(muxc, nr, chan)
 #else

@@ -237,6 +237,13 @@ void em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
 			 unsigned int *best, unsigned int *event);
 int em7180_feature_report(struct em7180_data *data);
 
+/* em7180_passthru.c: the sensor bus behind the hub */
+#if IS_ENABLED(CONFIG_KUNIT)
+struct i2c_mux_core;
+int em7180_passthru_select(struct i2c_mux_core *muxc, u32 chan_id);
+int em7180_passthru_deselect(struct i2c_mux_core *muxc, u32 chan_id);
+#endif
+
 /* em7180_upload.c: firmware from the host */
 int em7180_fw_check(const u8 *image, size_t size, u16 rom, char *why,
 		    size_t len);

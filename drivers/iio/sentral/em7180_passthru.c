@@ -32,6 +32,8 @@
 #include <linux/mutex.h>
 #include <linux/regmap.h>
 
+#include <kunit/visibility.h>
+
 #include <linux/iio/iio.h>
 
 #include "em7180.h"
@@ -67,7 +69,8 @@ static int em7180_passthru_wait(struct em7180_data *data, unsigned int reg,
 }
 
 /* Takes the driver's lock, which em7180_passthru_deselect() releases */
-static int em7180_passthru_select(struct i2c_mux_core *muxc, u32 chan_id)
+VISIBLE_IF_KUNIT int em7180_passthru_select(struct i2c_mux_core *muxc,
+					    u32 chan_id)
 {
 	struct em7180_data *data = i2c_mux_priv(muxc);
 	int ret;
@@ -86,6 +89,7 @@ static int em7180_passthru_select(struct i2c_mux_core *muxc, u32 chan_id)
 
 	return ret;
 }
+EXPORT_SYMBOL_IF_KUNIT(em7180_passthru_select);
 
 /*
  * Leave passthrough and run fusion again, on every path. A hub that stays
@@ -93,7 +97,8 @@ static int em7180_passthru_select(struct i2c_mux_core *muxc, u32 chan_id)
  * its own. Events that came before: a reset or an error is handled as the
  * interrupt thread does; data is not pushed.
  */
-static int em7180_passthru_deselect(struct i2c_mux_core *muxc, u32 chan_id)
+VISIBLE_IF_KUNIT int em7180_passthru_deselect(struct i2c_mux_core *muxc,
+					      u32 chan_id)
 {
 	struct em7180_data *data = i2c_mux_priv(muxc);
 	unsigned int status;
@@ -129,6 +134,7 @@ static int em7180_passthru_deselect(struct i2c_mux_core *muxc, u32 chan_id)
 
 	return ret;
 }
+EXPORT_SYMBOL_IF_KUNIT(em7180_passthru_deselect);
 
 static void em7180_passthru_remove(void *muxc)
 {
@@ -143,9 +149,10 @@ static void em7180_passthru_remove(void *muxc)
  * The adapter takes the devicetree node "i2c-gate" under the hub's node,
  * with the devices on the sensor bus, when there is one; else clients are
  * made through its new_device file. It is removed on unbind, before the
- * rest of the driver.
+ * rest of the driver. An adapter that cannot be added is only warned
+ * of: the hub's own channels do not need it.
  *
- * Return: 0 or a negative error code.
+ * Return: 0, or -ENOMEM or the error of registering the removal.
  */
 int em7180_passthru_probe(struct device *dev, struct i2c_adapter *parent)
 {
@@ -159,10 +166,12 @@ int em7180_passthru_probe(struct device *dev, struct i2c_adapter *parent)
 		return -ENOMEM;
 	muxc->priv = data;
 
+	/* The hub works without it, as mpu3050 does without its gate */
 	ret = em7180_i2c_mux_add_adapter(muxc, 0, 0);
-	if (ret)
-		return dev_err_probe(dev, ret,
-				     "failed to add the sensor bus adapter\n");
+	if (ret) {
+		dev_warn(dev, "no adapter for the sensor bus: %d\n", ret);
+		return 0;
+	}
 
 	return devm_add_action_or_reset(dev, em7180_passthru_remove, muxc);
 }
