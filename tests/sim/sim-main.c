@@ -253,9 +253,23 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 	if (bus->mux && bus->sel < 0)
 		return -ENXIO;
 	sim = bus->chip[bus->mux ? bus->sel : 0];
-	/* Any other address: the hub's sensor bus, through passthrough */
-	if (num && msgs[0].addr != SIM_I2C_ADDR)
-		return sim_usfs_xfer(sim, msgs, num);
+	/*
+	 * Any other address: the hub's sensor bus, through passthrough, as
+	 * long on the wire as the hub's transactions (the whole transfer's
+	 * bits, a NACK included)
+	 */
+	if (num && msgs[0].addr != SIM_I2C_ADDR) {
+		int ret = sim_usfs_xfer(sim, msgs, num);
+
+		khz = READ_ONCE(sim->bus_khz);
+		if (!khz)
+			return ret;
+		for (i = 0; i < num; i++)
+			bits += sim_msg_bits(msgs[i].len);
+		sim_wire_wait(ktime_add_ns(start, bits *
+					   DIV_ROUND_CLOSEST(NSEC_PER_MSEC, khz)));
+		return ret;
+	}
 	for (i = 0; i < num; i++) {
 		if (msgs[i].addr != SIM_I2C_ADDR ||
 		    (msgs[i].flags & I2C_M_TEN))

@@ -112,6 +112,13 @@ static inline int iio_push_to_buffers_with_ts(struct iio_dev *indio_dev,
 }
 #endif
 
+/* i2c_mux_add_adapter() lost its class argument in 6.10 (fec1982d7072) */
+#if KERNEL_VERSION(6, 10, 0) <= LINUX_VERSION_CODE
+#define em7180_i2c_mux_add_adapter(muxc, nr, chan)	i2c_mux_add_adapter(muxc, nr, chan)
+#else
+#define em7180_i2c_mux_add_adapter(muxc, nr, chan)	i2c_mux_add_adapter(muxc, nr, chan, 0)
+#endif
+
 /*
  * 6.1 runs the KUnit suites of a module while it is still coming, before
  * its sysfs directory exists (6.12 runs them once it is live): a root

@@ -22,6 +22,7 @@
 #define EM7180_REG_QRATE_DIVISOR	0x32
 #define EM7180_REG_ENABLE_EVENTS	0x33
 #define EM7180_REG_HOST_CTRL		0x34
+#define EM7180_REG_EVENT_STATUS		0x35	/* clear on read */
 #define EM7180_REG_SENTRAL_STATUS	0x37
 #define EM7180_REG_ALGO_STATUS		0x38
 #define EM7180_REG_FEATURE_FLAGS	0x39
@@ -46,16 +47,21 @@
 #define EM7180_REG_UPLOAD_DATA		0x96
 #define EM7180_REG_CRC_HOST		0x97	/* 0x97..0x9A, u32 LE */
 #define EM7180_REG_RESET_REQ		0x9B
+#define EM7180_REG_PASSTHRU_STATUS	0x9E
+#define EM7180_REG_PASSTHRU_CTRL	0xA0
 
 #define EM7180_HOST_CTRL_RUN		BIT(0)
 #define EM7180_HOST_CTRL_UPLOAD		BIT(1)
+#define EM7180_EVENT_CPU_RESET		BIT(0)
 #define EM7180_EVENT_ERROR		BIT(1)
 #define EM7180_EVENT_FEATURE		BIT(6)
 #define EM7180_SENTRAL_UPLOAD_DONE	BIT(1)
 #define EM7180_SENTRAL_STANDBY		BIT(3)
+#define EM7180_ALGO_STATUS_HALTED	BIT(0)
 #define EM7180_ALGO_CTRL_STANDBY	BIT(0)
 #define EM7180_ALGO_CTRL_PARAM_XFER	BIT(7)
 #define EM7180_RESET_REQ_RESET		BIT(0)
+#define EM7180_PASSTHRU_ON		BIT(0)	/* control: enable; status: ready */
 
 #define EM7180_CAL_STATUS_MASK		GENMASK(1, 0)
 #define EM7180_CAL_MAG_TRANSIENT_MASK	GENMASK(3, 2)
@@ -230,6 +236,13 @@ int em7180_feature_read_avail(const int **vals, int *type, int *length);
 void em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
 			 unsigned int *best, unsigned int *event);
 int em7180_feature_report(struct em7180_data *data);
+
+/* em7180_passthru.c: the sensor bus behind the hub */
+#if IS_ENABLED(CONFIG_KUNIT)
+struct i2c_mux_core;
+int em7180_passthru_select(struct i2c_mux_core *muxc, u32 chan_id);
+int em7180_passthru_deselect(struct i2c_mux_core *muxc, u32 chan_id);
+#endif
 
 /* em7180_upload.c: firmware from the host */
 int em7180_fw_check(const u8 *image, size_t size, u16 rom, char *why,

@@ -15,13 +15,19 @@
 static int em7180_i2c_probe(struct i2c_client *client)
 {
 	struct regmap *regmap;
+	int ret;
 
 	regmap = devm_regmap_init_i2c(client, &em7180_regmap_config);
 	if (IS_ERR(regmap))
 		return dev_err_probe(&client->dev, PTR_ERR(regmap),
 				     "failed to initialize regmap\n");
 
-	return em7180_core_probe(&client->dev, regmap, client->irq);
+	ret = em7180_core_probe(&client->dev, regmap, client->irq);
+	if (ret)
+		return ret;
+
+	/* The hub's sensor bus, reached in passthrough */
+	return em7180_passthru_probe(&client->dev, client->adapter);
 }
 
 static const struct i2c_device_id em7180_i2c_id[] = {

@@ -13,6 +13,7 @@
 #include <linux/device.h>
 #include <linux/errno.h>
 #include <linux/firmware.h>
+#include <linux/i2c-mux.h>
 #include <linux/ktime.h>
 #include <linux/limits.h>
 #include <linux/module.h>
@@ -54,6 +55,7 @@ struct em7180_emu {
 	enum emu_ack_end ack_end;
 	bool standby_stuck;		/* AlgorithmStatus never shows standby */
 	bool autoinc_stop;		/* the pointer stops at 0x3A and 0x63 */
+	bool passthru_stuck;		/* PassThruStatus never clears */
 	unsigned int ack_latency_us;
 	bool pending;
 	ktime_t req_time;
@@ -189,6 +191,9 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 	emu->regs[EM7180_REG_ALGO_STATUS] = emu->standby_stuck ? 0 :
 					    emu->regs[EM7180_REG_ALGO_CTRL] &
 					    EM7180_ALGO_CTRL_STANDBY;
+	emu->regs[EM7180_REG_PASSTHRU_STATUS] = emu->passthru_stuck ?
+		EM7180_PASSTHRU_ON :
+		emu->regs[EM7180_REG_PASSTHRU_CTRL] & EM7180_PASSTHRU_ON;
 	/* Once uploaded, the CPU is in standby until the host runs it */
 	if (emu->regs[EM7180_REG_SENTRAL_STATUS] & EM7180_SENTRAL_UPLOAD_DONE) {
 		if (emu->regs[EM7180_REG_HOST_CTRL] & EM7180_HOST_CTRL_RUN)
@@ -1409,10 +1414,74 @@ static void em7180_test_upload_errors(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, val, EM7180_HOST_CTRL_RUN);
 }
 
+/*
+ * One transfer on the sensor bus: standby, passthrough and its status; then
+ * passthrough off, fusion on, EventStatus read to lower INT. The driver's
+ * lock is held from select to deselect, and a scan announced before it is
+ * not pushed.
+ */
+static void em7180_test_passthru_sequence(struct kunit *test)
+{
+	static const u8 on = 1, off;
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	struct i2c_mux_core muxc = { .priv = &t->data };
+	unsigned int seq = t->data.xfer_seq;
+
+	/* A NACK of the first write is retried */
+	emu->nack_at = emu->transactions + 1;
+	KUNIT_ASSERT_EQ(test, em7180_passthru_select(&muxc, 0), 0);
+	KUNIT_EXPECT_TRUE(test, mutex_is_locked(&t->data.lock));
+	KUNIT_ASSERT_EQ(test, emu->n_log, 3U);
+	expect_xfer(test, emu, 0, true, EM7180_REG_ALGO_CTRL, &on, 1);
+	expect_xfer(test, emu, 1, true, EM7180_REG_PASSTHRU_CTRL, &on, 1);
+	expect_xfer(test, emu, 2, false, EM7180_REG_PASSTHRU_STATUS, NULL, 1);
+
+	emu->regs[EM7180_REG_EVENT_STATUS] = 0;
+	KUNIT_EXPECT_EQ(test, em7180_passthru_deselect(&muxc, 0), 0);
+	KUNIT_EXPECT_FALSE(test, mutex_is_locked(&t->data.lock));
+	KUNIT_EXPECT_EQ(test, t->data.xfer_seq, seq + 1);
+	KUNIT_ASSERT_EQ(test, emu->n_log, 8U);
+	expect_xfer(test, emu, 3, true, EM7180_REG_PASSTHRU_CTRL, &off, 1);
+	expect_xfer(test, emu, 4, false, EM7180_REG_PASSTHRU_STATUS, NULL, 1);
+	expect_xfer(test, emu, 5, true, EM7180_REG_ALGO_CTRL, &off, 1);
+	expect_xfer(test, emu, 6, false, EM7180_REG_ALGO_STATUS, NULL, 1);
+	expect_xfer(test, emu, 7, false, EM7180_REG_EVENT_STATUS, NULL, 1);
+	KUNIT_EXPECT_FALSE(test, delayed_work_pending(&t->data.recover_work));
+}
+
+/*
+ * A chip that reset in passthrough is recovered; one that cannot leave it
+ * is reset and recovered. The lock is released either way.
+ */
+static void em7180_test_passthru_recover(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	struct i2c_mux_core muxc = { .priv = &t->data };
+
+	KUNIT_ASSERT_EQ(test, em7180_passthru_select(&muxc, 0), 0);
+	emu->regs[EM7180_REG_EVENT_STATUS] = EM7180_EVENT_CPU_RESET;
+	KUNIT_EXPECT_EQ(test, em7180_passthru_deselect(&muxc, 0), 0);
+	KUNIT_EXPECT_FALSE(test, mutex_is_locked(&t->data.lock));
+	KUNIT_EXPECT_TRUE(test, delayed_work_pending(&t->data.recover_work));
+	cancel_delayed_work_sync(&t->data.recover_work);
+
+	KUNIT_ASSERT_EQ(test, em7180_passthru_select(&muxc, 0), 0);
+	emu->passthru_stuck = true;
+	KUNIT_EXPECT_EQ(test, em7180_passthru_deselect(&muxc, 0), -ETIMEDOUT);
+	KUNIT_EXPECT_FALSE(test, mutex_is_locked(&t->data.lock));
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_RESET_REQ],
+			EM7180_RESET_REQ_RESET);
+	KUNIT_EXPECT_TRUE(test, delayed_work_pending(&t->data.recover_work));
+}
+
 static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_read_sequence),
 	KUNIT_CASE(em7180_test_upload_sequence),
 	KUNIT_CASE(em7180_test_upload_errors),
+	KUNIT_CASE(em7180_test_passthru_sequence),
+	KUNIT_CASE(em7180_test_passthru_recover),
 	KUNIT_CASE(em7180_test_param_write_sequence),
 	KUNIT_CASE(em7180_test_param_batch),
 	KUNIT_CASE(em7180_test_param_stale_ack),
