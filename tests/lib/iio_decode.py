@@ -8,7 +8,8 @@ usage: iio_decode.py DEVICE_DIR [FILE] [--raw] [--csv]
 DEVICE_DIR is /sys/bus/iio/devices/iio:deviceN.  FILE defaults to stdin.
 The enabled channels describe the layout; when none is enabled (iio_readdev
 disables them as it exits), all of them.  Values are multiplied by the
-channel's _scale attribute unless --raw.
+channel's _scale attribute, after adding its _offset (the IIO rule:
+(raw + offset) * scale), unless --raw.
 Exit status 1 when the input is not a whole number of scans.
 """
 import os
@@ -46,17 +47,18 @@ def channels(dev):
             'bytes': int(storagebits) // 8,
             'repeat': int(repeat or 1),
             'shift': int(shift),
-            'scale': scale_of(dev, base),
+            'scale': attr_of(dev, base, 'scale'),
+            'offset': attr_of(dev, base, 'offset') or 0.0,
         })
     chans.sort(key=lambda c: c['index'])
     return chans
 
 
-def scale_of(dev, base):
+def attr_of(dev, base, what):
     # in_accel_x -> in_accel_x_scale, then the shared in_accel_scale.
     parts = base.split('_')
     for n in range(len(parts), 1, -1):
-        path = os.path.join(dev, '_'.join(parts[:n]) + '_scale')
+        path = os.path.join(dev, '_'.join(parts[:n]) + '_' + what)
         if os.path.exists(path):
             return float(read(path))
     return None
@@ -69,7 +71,7 @@ def layout(chans):
     for c in chans:
         size = c['bytes'] * c['repeat']
         offset = (offset + size - 1) // size * size
-        c['offset'] = offset
+        c['at'] = offset
         offset += size
         largest = max(largest, size)
     return (offset + largest - 1) // largest * largest if largest else 0
@@ -106,12 +108,12 @@ def main():
         row = []
         for c in chans:
             for i in range(c['repeat']):
-                at = s + c['offset'] + i * c['bytes']
+                at = s + c['at'] + i * c['bytes']
                 v = value(c, data[at:at + c['bytes']])
                 if raw or c['scale'] is None:
                     row.append(str(v))
                 else:
-                    row.append('%.6f' % (v * c['scale']))
+                    row.append('%.6f' % ((v + c['offset']) * c['scale']))
         print(sep.join(row))
     return 0
 
