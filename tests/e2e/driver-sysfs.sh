@@ -70,10 +70,11 @@ is "product_id" "$(cat "$DEV/product_id")" 0x80
 is "revision_id" "$(cat "$DEV/revision_id")" 0x02
 is "rom_version" "$(cat "$DEV/rom_version")" 0x09e6
 is "ram_version is the simulator's" "$(cat "$DEV/ram_version")" "$(cat "$SIM_DBG/ram_version")"
+is "firmware_source: the board's EEPROM" "$(cat "$DEV/firmware_source")" eeprom
 is "identity reads cost no bus transaction" "$(dbg_get stats transactions)" "$t"
 is "identity attributes mode 0444" \
-	"$(stat -c %a "$DEV"/{product_id,revision_id,rom_version,ram_version} | tr '\n' ' ')" \
-	"444 444 444 444 "
+	"$(stat -c %a "$DEV"/{product_id,revision_id,rom_version,ram_version,firmware_source} | tr '\n' ' ')" \
+	"444 444 444 444 444 "
 
 # debugfs register access (IIO's direct_reg_access), for debugging real chips
 REG=/sys/kernel/debug/iio/iio:device$N/direct_reg_access

@@ -107,6 +107,7 @@ like "the log says what was uploaded" "$(since | grep em7180)" \
 	"firmware em7180.fw uploaded \(2048 bytes, CRC $crc\)"
 is "nothing refused" "$(since | grep -c 'em7180.*\(error\|fail\|mismatch\)')" 0
 is "ram_version is the image's" "$(cat "$DEV/ram_version")" 0x0e42
+is "firmware_source: the host" "$(cat "$DEV/firmware_source")" host
 is "rom_version" "$(cat "$DEV/rom_version")" 0x09e6
 is "firmware from the host, running" \
 	"$(dbg_get board firmware) $(dbg_get state running)" "host 1"
@@ -179,6 +180,7 @@ DEV=$(em7180_dir)
 is "nothing uploaded" "$(uploads)" "$n"
 is "the EEPROM's firmware" \
 	"$(cat "$DEV/ram_version") $(dbg_get board firmware)" "0x0d17 eeprom"
+is "firmware_source: the EEPROM" "$(cat "$DEV/firmware_source")" eeprom
 ok "capture" sh -c "iio_readdev -b 16 -s 20 em7180 >$T/cap4.bin"
 is "20 scans" "$(stat -c %s "$T/cap4.bin")" 800
 
@@ -203,6 +205,7 @@ DEV=$(em7180_dir)
 like "board.fw uploaded over the EEPROM's firmware" "$(since | grep em7180)" \
 	"firmware board.fw uploaded \(1024 bytes, CRC $crc\)"
 is "ram_version is board.fw's" "$(cat "$DEV/ram_version")" 0x0e43
+is "firmware_source: the host, over the EEPROM's" "$(cat "$DEV/firmware_source")" host
 is "firmware from the host" "$(dbg_get board firmware)" host
 ok "capture" sh -c "iio_readdev -b 16 -s 20 em7180 >$T/cap5.bin"
 is "20 scans" "$(stat -c %s "$T/cap5.bin")" 800

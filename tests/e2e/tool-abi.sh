@@ -8,7 +8,9 @@
 # command but key and show then exits 78 before touching anything, with a
 # message that says older or newer and what to install; key still names
 # the device for udev; the watcher's unit does not restart on 78 and has a
-# start limit. With the real directory back, everything works again.
+# start limit. A driver without the optional firmware_source works, status
+# saying the firmware's origin is unknown. With the real directory back,
+# everything works again.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -79,6 +81,18 @@ out=$(with_dir /tmp/newer sentral-warmstart save 2>&1)
 is "a newer driver: save exits 78" $? 78
 like "saying so" "$out" \
 	"the em7180 driver lacks in_magn_calibration_update, which sentral-warmstart $version uses, .*: it is newer than this tool; install the sentral-warmstart of the driver's release"
+
+# A driver before firmware_source (7.3): optional, status says unknown.
+fake_dir /tmp/pre-source -firmware_source
+out=$(with_dir /tmp/pre-source sentral-warmstart status 2>&1)
+is "a driver without firmware_source: status exits 0" $? 0
+like "the firmware's origin unknown, and why" "$out" \
+	'firmware: +unknown \(this em7180 driver does not say: no firmware_source attribute\)'
+like "the feature sensors still shown" "$out" 'feature sensors: +pressure [0-9.]+ kPa at 25 Hz'
+like "--json: firmware_source null" \
+	"$(with_dir /tmp/pre-source sentral-warmstart status --json 2>&1)" \
+	'"firmware_source":null,"feature_sensors":\[\{"name":"pressure",'
+ok "save works with it" with_dir /tmp/pre-source sentral-warmstart save --force --file /tmp/pre-source.ws
 
 ok "the real directory back: status exits 0" sentral-warmstart status
 unit=$SENTRAL_ROOT/tools/sentral-warmstart/systemd/sentral-warmstart@.service.in

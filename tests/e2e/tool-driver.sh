@@ -17,8 +17,22 @@ bus=$(sim_bus)
 out=$(sentral-warmstart status 2>&1)
 is "status exits 0" $? 0
 like "status names the chip" "$out" "ProductID 0x80, RevisionID 0x02"
+echo "$out" | sed 's/^/# /'
 json=$(sentral-warmstart status --json)
+echo "# $json"
 like "status --json" "$json" '^\{"device":"iio:device[0-9]+","backend":"driver",.*"product_id":128,"revision_id":2,'
+# Issue 23.6: where the firmware came from, the board's feature sensors
+# (the simulated USFS: a barometer at 1000.00 hPa +- 0.50, a thermometer
+# at 25.00 C +- 0.20, both at the driver's 25 Hz).
+like "status: the firmware came from the board's EEPROM" "$out" \
+	"firmware: +from the board's EEPROM"
+like "status: the barometer, about 100 kPa, at 25 Hz" "$out" \
+	'feature sensors: +pressure (99\.9[5-9]|100\.0[0-5])[0-9] kPa at 25 Hz'
+like "status: the thermometer, about 25 C, at 25 Hz" "$out" \
+	$'\n +temperature 2[45]\\.[0-9]{2} C at 25 Hz\n'
+like "status --json: firmware_source and feature_sensors" "$json" \
+	'"ram_version":[0-9]+,"firmware_source":"eeprom","feature_sensors":\[\{"name":"pressure","value":(99\.9[5-9]|100\.0[0-5])[0-9],"unit":"kPa","rate_hz":25\},\{"name":"temperature","value":2[45]\.[0-9]{2},"unit":"C","rate_hz":25\}\],'
+is "the driver's firmware_source" "$(cat "$DEV/firmware_source")" eeprom
 key=$(echo "$json" | json_field key)
 # No udevd here: no ID_PATH, so the adapter (no firmware node) is named by
 # its name; never by its number.
@@ -190,7 +204,12 @@ if echo 1 >"$DEV/buffer0/enable"; then
 	out=$(sentral-warmstart save --force --file /tmp/streaming.ws 2>&1)
 	is "save reads while it streams: exit 0" $? 0
 	ok "and wrote a valid file" sentral-warmstart show /tmp/streaming.ws
-	ok "status reads while it streams" sentral-warmstart status
+	out=$(sentral-warmstart status 2>&1)
+	is "status reads while it streams: exit 0" $? 0
+	like "the barometer without a value (EBUSY), its rate still" "$out" \
+		'feature sensors: +pressure \(no value while a buffer streams\) at 25 Hz'
+	like "--json: its value null" "$(sentral-warmstart status --json)" \
+		'"feature_sensors":\[\{"name":"pressure","value":null,"unit":"kPa","rate_hz":25\},\{"name":"temperature","value":null,'
 	echo 0 >"$DEV/buffer0/enable"
 else
 	ok "buffer could not be enabled (skipped the -EBUSY check)" false
@@ -212,5 +231,43 @@ is "--i2c with the driver bound: exit 69" $? 69
 like "and says so politely" "$out" "a kernel driver is bound to $client"
 out=$(sentral-warmstart bogus 2>&1)
 is "usage error: exit 64" $? 64
+
+# A board without feature sensors (FeatureFlags 0) says "none".
+ok "unbind" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/unbind"
+knob feature_flags 0
+ok "bind with FeatureFlags 0" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
+ok "bound" wait_for 5 em7180_dir
+like "status: feature sensors none" "$(sentral-warmstart status 2>&1)" \
+	$'\nfeature sensors: +none\n'
+like "--json: an empty list" "$(sentral-warmstart status --json)" \
+	'"firmware_source":"eeprom","feature_sensors":\[\],'
+
+# A board without an EEPROM, its firmware uploaded by the driver from an
+# image of tests/refhost/mkfw.py.
+T=$(mktemp -d /tmp/tool-driver.XXXXXX)
+ok "an image" sh -c "/usr/bin/python3 $SENTRAL_ROOT/tests/refhost/mkfw.py $T/em7180.fw --ram-version 0x0e42 >/dev/null"
+echo -n "$T" >/sys/module/firmware_class/parameters/path
+ok "unbind" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/unbind"
+knob feature_flags 5
+knob no_eeprom 1
+ok "the ROM's search for an EEPROM is over" wait_for 5 sim_ready
+ok "bind: the driver uploads the image" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
+DEV=$(em7180_dir)
+is "  the firmware is the image's" "$(cat "$DEV/ram_version")" 0x0e42
+out=$(sentral-warmstart status 2>&1)
+like "status: uploaded by the host" "$out" $'\nfirmware: +uploaded by the host\n'
+like "  with its feature sensors" "$out" 'pressure [0-9.]+ kPa at 25 Hz'
+like "--json: firmware_source host" "$(sentral-warmstart status --json)" \
+	'"firmware_source":"host",'
+
+# Back as tests/uml/run leaves it, with an EEPROM.
+ok "unbind" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/unbind"
+knob no_eeprom 0
+ok "the EEPROM's firmware is loaded" wait_for 5 sim_ready
+ok "bind" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
+echo -n "" >/sys/module/firmware_class/parameters/path
+rm -rf "$T"
+like "status: from the board's EEPROM again" "$(sentral-warmstart status 2>&1)" \
+	"firmware: +from the board's EEPROM"
 
 done_testing

@@ -54,6 +54,36 @@ is "nothing at 0x29: exit 69" $? 69
 ok "start the chip (rates, run)" chip_run "$bus"
 is "algorithm running" "$(dbg_get state running)" 1
 
+# Issue 23.6: the firmware's origin from SentralStatus, the feature sensors
+# from FeatureFlags, their rate registers and data slots (the simulated
+# USFS: barometer in slot 0 at 1000.00 hPa +- 0.50, thermometer in slot 1
+# at 25.00 C +- 0.20), the USFS firmware's conversions.
+ok "feature rates 10 and 5 Hz" i2ctransfer -y "$bus" w3@0x28 0x58 0x0a 0x05
+sleep 0.5
+out=$(sentral-warmstart $i2c status 2>&1)
+is "status over i2c-dev: exit 0" $? 0
+like "firmware from the board's EEPROM (SentralStatus bit 0)" "$out" \
+	"firmware: +from the board's EEPROM"
+like "the barometer, about 100 kPa, at 10 Hz" "$out" \
+	'feature sensors: +pressure (99\.9[5-9]|100\.0[0-5])[0-9] kPa at 10 Hz'
+like "the thermometer, about 25 C, at 5 Hz" "$out" \
+	$'\n +temperature 2[45]\\.[0-9]{2} C at 5 Hz\n'
+like "--json" "$(sentral-warmstart $i2c status --json)" \
+	'"firmware_source":"eeprom","feature_sensors":\[\{"name":"pressure","value":(99\.9[5-9]|100\.0[0-5])[0-9],"unit":"kPa","rate_hz":10\},\{"name":"temperature","value":2[45]\.[0-9]{2},"unit":"C","rate_hz":5\}\],'
+knob feature_flags 7
+sleep 0.5
+like "FeatureFlags 7: three slots, the data packed, humidity about 45 %" \
+	"$(sentral-warmstart $i2c status 2>&1)" \
+	$'feature sensors: +pressure (99\\.9[5-9]|100\\.0[0-5])[0-9] kPa at 10 Hz\n +humidity 4[456]\\.[0-9]{2} % at 5 Hz\n +temperature -?[0-9.]+ C at 0 Hz\n'
+knob feature_flags 0
+like "FeatureFlags 0: none" "$(sentral-warmstart $i2c status 2>&1)" \
+	$'\nfeature sensors: +none\n'
+like "--json: an empty list" "$(sentral-warmstart $i2c status --json)" \
+	'"feature_sensors":\[\],'
+knob feature_flags 5
+ok "feature rates back to the driver's 25 Hz" \
+	i2ctransfer -y "$bus" w3@0x28 0x58 0x19 0x19
+
 # Calibrate over i2c-dev.
 knob gbias_period_ms 200
 knob cal_duration_ms 1500
@@ -146,6 +176,33 @@ is "transfer mode ended" "$(dbg_get state transfer)" 0
 nok "no file written" test -e /tmp/sig.ws
 knob ack_latency_us 500
 ok "and the next restore works" sentral-warmstart $i2c restore --file /tmp/i2c.ws
+
+# A board without an EEPROM: nothing runs until the host uploads (unknown),
+# then the firmware is the host's (SentralStatus bit 4, a RAM version).
+knob no_eeprom 1
+ok "no EEPROM: the ROM's search for it is over" wait_for 5 sim_ready
+out=$(sentral-warmstart $i2c status 2>&1)
+is "status with nothing uploaded: exit 0" $? 0
+like "firmware unknown: nothing uploaded" "$out" \
+	'firmware: +unknown \(the board has no EEPROM and no firmware was uploaded \(SentralStatus 0x18, RAM version 0\)\)'
+like "no feature sensors without firmware" "$out" 'feature sensors: +none'
+like "--json: firmware_source null" "$(sentral-warmstart $i2c status --json)" \
+	'"firmware_source":null,"feature_sensors":\[\],'
+T=$(mktemp -d /tmp/tool-i2c.XXXXXX)
+ok "an image" sh -c "/usr/bin/python3 $SENTRAL_ROOT/tests/refhost/mkfw.py $T/em7180.fw --ram-version 0x0e42 >/dev/null"
+echo -n "$T" >/sys/module/firmware_class/parameters/path
+ok "the driver binds and uploads it" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
+is "  the firmware is the host's" "$(dbg_get board firmware)" host
+ok "unbind the driver" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/unbind"
+out=$(sentral-warmstart $i2c status 2>&1)
+like "status over i2c-dev: uploaded by the host" "$out" \
+	$'\nfirmware: +uploaded by the host\n'
+like "--json: firmware_source host" "$(sentral-warmstart $i2c status --json)" \
+	'"firmware_source":"host",'
+knob no_eeprom 0
+ok "the EEPROM's firmware is loaded" wait_for 5 sim_ready
+echo -n "" >/sys/module/firmware_class/parameters/path
+rm -rf "$T"
 
 ok "bind the driver again" sh -c "echo $client >/sys/bus/i2c/drivers/em7180/bind"
 ok "the driver backend sees it" wait_for 5 em7180_dir

@@ -7,7 +7,12 @@
 
 #include "abi.h"
 
-/* Every attribute of the IIO device that the driver backend reads or writes. */
+/*
+ * Every attribute of the IIO device that the driver backend reads or writes,
+ * but the optional ones: firmware_source (7.3; status says "unknown"
+ * without it) and the feature sensors' channels (only on boards that have
+ * them), which are not listed here.
+ */
 static const char *const required[] = {
 	"calibration_data",
 	"product_id", "revision_id", "rom_version", "ram_version",

@@ -32,6 +32,13 @@ struct sw_backend_ops {
 				struct sw_err *e);
 	int (*accel_offset_set)(struct sw_backend *b, const int lsb[3],
 				struct sw_err *e);
+	/*
+	 * Firmware origin and feature sensors. A value the driver refuses
+	 * while a buffer streams (EBUSY) is left out (have_value false),
+	 * never an error.
+	 */
+	int (*hub_info)(struct sw_backend *b, struct sw_hub_info *hi,
+			struct sw_err *e);
 	void (*close)(struct sw_backend *b);
 };
 

@@ -31,6 +31,17 @@
 
 #define REG_MAG		0x12
 #define REG_ACCEL	0x1a
+#define REG_FEATURE0	0x2a	/* feature data and TIME, to 0x31 */
+#define FEATURE_DATA_LEN 8
+#define REG_SENTRAL_STATUS 0x37
+#define STATUS_EEPROM	0x01	/* EEPROM detected */
+#define STATUS_NO_EEPROM 0x10
+#define REG_FEATURE_FLAGS 0x39
+/* bits 0..2 barometer, humidity, temperature; 3..5 custom sensors */
+#define FEATURE_FLAGS_MASK 0x3f
+#define FEATURE_SLOTS	3
+#define REG_FEATURE_RATE0 0x58
+#define FEATURE_RATE_MASK 0x7f
 #define REG_PARAM_ACK	0x3a
 #define REG_SAVED_PARAM	0x3b
 #define REG_CAL_STATUS	0x43
@@ -43,6 +54,7 @@
 #define REG_PARAM_REQ	0x64
 #define PARAM_WRITE	0x80
 #define REG_ROM_VERSION	0x70
+#define REG_RAM_VERSION	0x72
 #define REG_PRODUCT_ID	0x90
 #define EM7180_PRODUCT_ID 0x80
 
@@ -388,6 +400,94 @@ static int i2c_accel_offset_set(struct sw_backend *b, const int lsb[3],
 	return param_batch(to_i2c(b), SW_PARAM_ACCEL_X, 3, true, vals, e);
 }
 
+/*
+ * SentralStatus: NoEEPROM means the host uploaded what runs (RAMVersion 0:
+ * nothing yet); EEPROM detected, that the ROM loaded it from there. A
+ * devicetree's firmware-name replacing the EEPROM's firmware does not show.
+ */
+static int i2c_fw_source(struct i2c_be *ib, struct sw_hub_info *hi,
+			 struct sw_err *e)
+{
+	uint8_t st, ram[2];
+
+	if (i2c_bus_read(ib->fd, ib->addr, REG_SENTRAL_STATUS, &st, 1) < 0)
+		return bus_err(ib, "reading", REG_SENTRAL_STATUS, e);
+	if (st & STATUS_NO_EEPROM) {
+		if (i2c_bus_read(ib->fd, ib->addr, REG_RAM_VERSION, ram, 2) < 0)
+			return bus_err(ib, "reading", REG_RAM_VERSION, e);
+		if (sw_get_le16(ram))
+			hi->fw_source = SW_FW_HOST;
+		else
+			snprintf(hi->fw_why, sizeof(hi->fw_why),
+				 "the board has no EEPROM and no firmware was uploaded (SentralStatus 0x%02x, RAM version 0)",
+				 st);
+	} else if (st & STATUS_EEPROM) {
+		hi->fw_source = SW_FW_EEPROM;
+	} else {
+		snprintf(hi->fw_why, sizeof(hi->fw_why),
+			 "SentralStatus 0x%02x says neither EEPROM detected nor no EEPROM",
+			 st);
+	}
+	return SW_EXIT_OK;
+}
+
+/* USFS firmware: 0.01 per LSB; pressure in mbar from 1013.25, as kPa. */
+static double feature_value(enum sw_feature_kind k, int16_t raw)
+{
+	if (k == SW_FEATURE_PRESSURE)
+		return (raw * 0.01 + 1013.25) / 10;
+	return raw * 0.01;
+}
+
+/*
+ * FeatureFlags: the present sensors take slots in bit order, rate register
+ * 0x58 + slot; with one or two slots each has data and TIME (data at 0x2A
+ * + 4 * slot), with three the data words are packed (0x2A + 2 * slot).
+ */
+static int i2c_features(struct i2c_be *ib, struct sw_hub_info *hi,
+			struct sw_err *e)
+{
+	uint8_t flags, data[FEATURE_DATA_LEN], rates[FEATURE_SLOTS];
+	unsigned int k, slots, step;
+
+	if (i2c_bus_read(ib->fd, ib->addr, REG_FEATURE_FLAGS, &flags, 1) < 0)
+		return bus_err(ib, "reading", REG_FEATURE_FLAGS, e);
+	flags &= FEATURE_FLAGS_MASK;
+	slots = (unsigned int)__builtin_popcount(flags);
+	/* More than the slots (the driver ignores them too), or none. */
+	if (!slots || slots > FEATURE_SLOTS)
+		return SW_EXIT_OK;
+	if (i2c_bus_read(ib->fd, ib->addr, REG_FEATURE0, data, sizeof(data)) < 0)
+		return bus_err(ib, "reading", REG_FEATURE0, e);
+	if (i2c_bus_read(ib->fd, ib->addr, REG_FEATURE_RATE0, rates, slots) < 0)
+		return bus_err(ib, "reading", REG_FEATURE_RATE0, e);
+	step = slots < FEATURE_SLOTS ? 4 : 2;
+	for (k = 0; k < SW_NFEATURES; k++) {
+		struct sw_feature *f = &hi->features[hi->nfeatures];
+
+		if (!(flags & (1u << k)))
+			continue;
+		f->kind = (enum sw_feature_kind)k;
+		f->have_value = true;
+		f->value = feature_value(f->kind, (int16_t)sw_get_le16(
+						data + step * hi->nfeatures));
+		f->rate_hz = rates[hi->nfeatures] & FEATURE_RATE_MASK;
+		hi->nfeatures++;
+	}
+	return SW_EXIT_OK;
+}
+
+static int i2c_hub_info(struct sw_backend *b, struct sw_hub_info *hi,
+			struct sw_err *e)
+{
+	struct i2c_be *ib = to_i2c(b);
+	int ret;
+
+	memset(hi, 0, sizeof(*hi));
+	ret = i2c_fw_source(ib, hi, e);
+	return ret ? ret : i2c_features(ib, hi, e);
+}
+
 static void i2c_close(struct sw_backend *b)
 {
 	struct i2c_be *ib = to_i2c(b);
@@ -405,6 +505,7 @@ static const struct sw_backend_ops i2c_ops = {
 	.accel_raw = i2c_accel_raw,
 	.accel_offset_get = i2c_accel_offset_get,
 	.accel_offset_set = i2c_accel_offset_set,
+	.hub_info = i2c_hub_info,
 	.close = i2c_close,
 };
 

@@ -12,6 +12,7 @@
 #include <iio.h>
 #include <libudev.h>
 #include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -90,22 +91,62 @@ static int attr_read(struct iio_be *ib, const char *attr, char *buf,
 	return SW_EXIT_OK;
 }
 
-static int attr_read_int(struct iio_be *ib, const char *attr, int *val,
-			 struct sw_err *e)
+/*
+ * An attribute the device may lack or refuse: *err is 0 when it was read,
+ * ENOENT when the device has no such attribute, EBUSY when the driver
+ * refused while a buffer streams. Any other failure is returned.
+ */
+static int attr_read_soft(struct iio_be *ib, const char *attr, char *buf,
+			  size_t len, int *err, struct sw_err *e)
 {
-	char buf[64], *end;
-	long v;
-	int ret;
+	char path[PATH_MAX + 64];
 
-	ret = attr_read(ib, attr, buf, sizeof(buf), e);
-	if (ret)
-		return ret;
+	snprintf(path, sizeof(path), "%s/%s", ib->dir, attr);
+	*err = 0;
+	if (read_text(path, buf, len) == 0)
+		return SW_EXIT_OK;
+	*err = errno;
+	if (*err == EBUSY || (*err == ENOENT && access(ib->dir, F_OK) == 0))
+		return SW_EXIT_OK;
+	return attr_err(ib, "reading", attr, *err, e);
+}
+
+static int parse_int(struct iio_be *ib, const char *attr, const char *buf,
+		     int *val, struct sw_err *e)
+{
+	char *end;
+	long v;
+
 	errno = 0;
 	v = strtol(buf, &end, 10);
 	if (errno || end == buf || *end || v < INT_MIN || v > INT_MAX)
 		return sw_err_set(e, SW_EXIT_IO, "%s: %s: unexpected value \"%s\"",
 				  ib->b.name, attr, buf);
 	*val = (int)v;
+	return SW_EXIT_OK;
+}
+
+static int attr_read_int(struct iio_be *ib, const char *attr, int *val,
+			 struct sw_err *e)
+{
+	char buf[64];
+	int ret;
+
+	ret = attr_read(ib, attr, buf, sizeof(buf), e);
+	return ret ? ret : parse_int(ib, attr, buf, val, e);
+}
+
+/* A scale or an offset: a finite decimal number. */
+static int parse_double(struct iio_be *ib, const char *attr, const char *buf,
+			double *val, struct sw_err *e)
+{
+	char *end;
+
+	errno = 0;
+	*val = strtod(buf, &end);
+	if (errno || end == buf || *end || !isfinite(*val))
+		return sw_err_set(e, SW_EXIT_IO, "%s: %s: unexpected value \"%s\"",
+				  ib->b.name, attr, buf);
 	return SW_EXIT_OK;
 }
 
@@ -389,6 +430,114 @@ static int iio_accel_offset_set(struct sw_backend *b, const int lsb[3],
 	return SW_EXIT_OK;
 }
 
+/*
+ * firmware_source (since 7.3): "eeprom" or "host". Optional: a driver
+ * without it still serves every other command, and status says unknown.
+ */
+static int iio_fw_source(struct iio_be *ib, struct sw_hub_info *hi,
+			 struct sw_err *e)
+{
+	static const char attr[] = "firmware_source";
+	char buf[64];
+	int err, ret;
+
+	ret = attr_read_soft(ib, attr, buf, sizeof(buf), &err, e);
+	if (ret)
+		return ret;
+	if (err)
+		snprintf(hi->fw_why, sizeof(hi->fw_why),
+			 "this em7180 driver does not say: no %s attribute",
+			 attr);
+	else if (!strcmp(buf, "eeprom"))
+		hi->fw_source = SW_FW_EEPROM;
+	else if (!strcmp(buf, "host"))
+		hi->fw_source = SW_FW_HOST;
+	else
+		snprintf(hi->fw_why, sizeof(hi->fw_why),
+			 "%s reads \"%.60s\"", attr, buf);
+	return SW_EXIT_OK;
+}
+
+/* The channel of each feature sensor, and its IIO unit per the tool's. */
+static const struct {
+	const char *chan;	/* in_<chan>_raw */
+	double per_unit;
+} iio_features[SW_NFEATURES] = {
+	[SW_FEATURE_PRESSURE] = { "pressure", 1 },		/* kPa */
+	[SW_FEATURE_HUMIDITY] = { "humidityrelative", 1000 },	/* milli % */
+	[SW_FEATURE_TEMP] = { "temp", 1000 },			/* milli C */
+};
+
+/* (raw + offset) * scale, offset 0 when the channel has none. */
+static int iio_feature_value(struct iio_be *ib, const char *chan, int raw,
+			     double per_unit, double *val, struct sw_err *e)
+{
+	char attr[64], buf[64];
+	double scale, offset = 0;
+	int err, ret;
+
+	snprintf(attr, sizeof(attr), "in_%s_scale", chan);
+	ret = attr_read(ib, attr, buf, sizeof(buf), e);
+	ret = ret ? ret : parse_double(ib, attr, buf, &scale, e);
+	if (ret)
+		return ret;
+	snprintf(attr, sizeof(attr), "in_%s_offset", chan);
+	ret = attr_read_soft(ib, attr, buf, sizeof(buf), &err, e);
+	if (!ret && !err)
+		ret = parse_double(ib, attr, buf, &offset, e);
+	if (ret)
+		return ret;
+	*val = (raw + offset) * scale / per_unit;
+	return SW_EXIT_OK;
+}
+
+/*
+ * Feature sensor k, when the driver has its channel (*present). Its raw
+ * value reads EBUSY while a buffer streams: shown without a value then.
+ */
+static int iio_feature(struct iio_be *ib, enum sw_feature_kind k,
+		       struct sw_feature *f, bool *present, struct sw_err *e)
+{
+	const char *chan = iio_features[k].chan;
+	char attr[64], buf[64];
+	int err, raw = 0, ret;
+
+	snprintf(attr, sizeof(attr), "in_%s_raw", chan);
+	ret = attr_read_soft(ib, attr, buf, sizeof(buf), &err, e);
+	*present = !ret && err != ENOENT;
+	if (!*present)
+		return ret;
+	memset(f, 0, sizeof(*f));
+	f->kind = k;
+	f->have_value = !err;
+	if (f->have_value)
+		ret = parse_int(ib, attr, buf, &raw, e);
+	snprintf(attr, sizeof(attr), "in_%s_sampling_frequency", chan);
+	ret = ret ? ret : attr_read_int(ib, attr, &f->rate_hz, e);
+	if (ret || !f->have_value)
+		return ret;
+	return iio_feature_value(ib, chan, raw, iio_features[k].per_unit,
+				 &f->value, e);
+}
+
+static int iio_hub_info(struct sw_backend *b, struct sw_hub_info *hi,
+			struct sw_err *e)
+{
+	struct iio_be *ib = to_iio(b);
+	bool present;
+	int k, ret;
+
+	memset(hi, 0, sizeof(*hi));
+	ret = iio_fw_source(ib, hi, e);
+	for (k = 0; k < SW_NFEATURES && !ret; k++) {
+		ret = iio_feature(ib, (enum sw_feature_kind)k,
+				  &hi->features[hi->nfeatures], &present, e);
+		if (present)
+			hi->nfeatures++;
+	}
+	return ret;
+}
+
 static void iio_close(struct sw_backend *b)
 {
 	free(to_iio(b));
@@ -403,6 +552,7 @@ static const struct sw_backend_ops iio_ops = {
 	.accel_raw = iio_accel_raw,
 	.accel_offset_get = iio_accel_offset_get,
 	.accel_offset_set = iio_accel_offset_set,
+	.hub_info = iio_hub_info,
 	.close = iio_close,
 };
 

@@ -782,15 +782,94 @@ void sw_json_str(FILE *f, const char *s)
 	fputc('"', f);
 }
 
+/* How status names and shows each feature sensor. */
+static const struct {
+	const char *name;
+	const char *unit;	/* ASCII: "C", not a degree sign */
+	int decimals;		/* the firmware's resolution: 0.01 hPa, C, % */
+} feature_kinds[SW_NFEATURES] = {
+	[SW_FEATURE_PRESSURE] = { "pressure", "kPa", 3 },
+	[SW_FEATURE_HUMIDITY] = { "humidity", "%", 2 },
+	[SW_FEATURE_TEMP] = { "temperature", "C", 2 },
+};
+
+/* "firmware:" and "feature sensors:" lines; hi NULL: not read (why). */
+static void status_hub_text(FILE *out, const struct sw_hub_info *hi,
+			    const char *why)
+{
+	static const char *const source[] = {
+		[SW_FW_EEPROM] = "from the board's EEPROM",
+		[SW_FW_HOST] = "uploaded by the host",
+	};
+	unsigned int i;
+
+	if (!hi) {
+		fprintf(out, "firmware:            unknown (%s)\n", why);
+		fprintf(out, "feature sensors:     unknown (%s)\n", why);
+		return;
+	}
+	if (hi->fw_source == SW_FW_UNKNOWN)
+		fprintf(out, "firmware:            unknown (%s)\n", hi->fw_why);
+	else
+		fprintf(out, "firmware:            %s\n", source[hi->fw_source]);
+	if (!hi->nfeatures)
+		fprintf(out, "feature sensors:     none\n");
+	for (i = 0; i < hi->nfeatures; i++) {
+		const struct sw_feature *f = &hi->features[i];
+
+		fprintf(out, "%-21s%s ", i ? "" : "feature sensors:",
+			feature_kinds[f->kind].name);
+		if (f->have_value)
+			fprintf(out, "%.*f %s", feature_kinds[f->kind].decimals,
+				f->value, feature_kinds[f->kind].unit);
+		else
+			fprintf(out, "(no value while a buffer streams)");
+		fprintf(out, " at %d Hz\n", f->rate_hz);
+	}
+}
+
+/* "firmware_source" and "feature_sensors" members; null when unknown. */
+static void status_hub_json(FILE *out, const struct sw_hub_info *hi)
+{
+	static const char *const source[] = {
+		[SW_FW_UNKNOWN] = "null",
+		[SW_FW_EEPROM] = "\"eeprom\"",
+		[SW_FW_HOST] = "\"host\"",
+	};
+	unsigned int i;
+
+	if (!hi) {
+		fprintf(out, ",\"firmware_source\":null,\"feature_sensors\":null");
+		return;
+	}
+	fprintf(out, ",\"firmware_source\":%s,\"feature_sensors\":[",
+		source[hi->fw_source]);
+	for (i = 0; i < hi->nfeatures; i++) {
+		const struct sw_feature *f = &hi->features[i];
+
+		fprintf(out, "%s{\"name\":\"%s\",\"value\":", i ? "," : "",
+			feature_kinds[f->kind].name);
+		if (f->have_value)
+			fprintf(out, "%.*f", feature_kinds[f->kind].decimals,
+				f->value);
+		else
+			fprintf(out, "null");
+		fprintf(out, ",\"unit\":\"%s\",\"rate_hz\":%d}",
+			feature_kinds[f->kind].unit, f->rate_hz);
+	}
+	fprintf(out, "]");
+}
+
 int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 		  struct sw_env *env, struct sw_err *e)
 {
 	struct sw_chip_info chip;
 	struct sw_cal_state cs;
-	struct sw_err cerr, ferr;
+	struct sw_hub_info hub;
+	struct sw_err cerr, ferr, herr;
 	struct sw_file f;
 	char path[4096], old[4096], why[4400], when[40];
-	bool have_chip, have_file;
+	bool have_chip, have_file, have_hub;
 	FILE *out = env->out;
 	int ret, err = 0;
 
@@ -799,6 +878,8 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 		return ret;
 	sw_err_clear(&cerr);
 	have_chip = b->ops->chip_info(b, &chip, &cerr) == SW_EXIT_OK;
+	sw_err_clear(&herr);
+	have_hub = b->ops->hub_info(b, &hub, &herr) == SW_EXIT_OK;
 	sw_file_path(o, b, path, sizeof(path));
 	sw_err_clear(&ferr);
 	ret = load_existing(o, path, have_chip ? &chip : NULL, &f, &have_file,
@@ -839,6 +920,7 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 			fprintf(out, ",\"product_id\":%u,\"revision_id\":%u,\"rom_version\":%u,\"ram_version\":%u",
 				chip.product_id, chip.revision_id,
 				chip.rom_version, chip.ram_version);
+		status_hub_json(out, have_hub ? &hub : NULL);
 		if (cs.reported)
 			fprintf(out, ",\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"mag_transient\":%d,\"gyro_bias_update\":%d,\"mag_calibration_update\":%d,\"file\":",
 				cs.status, sw_score_pct(cs.score_raw),
@@ -867,6 +949,7 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 			chip.ram_version);
 	else
 		fprintf(out, "chip:                unknown (%s)\n", cerr.msg);
+	status_hub_text(out, have_hub ? &hub : NULL, herr.msg);
 	if (!cs.reported) {
 		if (have_chip)
 			fprintf(out, "calibration status:  not reported by this firmware (RAM 0x%04x)\n",

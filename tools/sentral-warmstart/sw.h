@@ -118,6 +118,37 @@ struct sw_cal_state {
 	int mag_cal_update;
 };
 
+/* Where the firmware the chip runs came from. */
+enum sw_fw_source {
+	SW_FW_UNKNOWN,		/* an older driver, or the chip does not say */
+	SW_FW_EEPROM,		/* the board's EEPROM, at power-on or reset */
+	SW_FW_HOST,		/* uploaded by the host: needed again after a reset */
+};
+
+/* The feature sensors, in FeatureFlags bit order (reg 0x39 bits 0..2). */
+enum sw_feature_kind {
+	SW_FEATURE_PRESSURE,	/* kPa */
+	SW_FEATURE_HUMIDITY,	/* % relative humidity */
+	SW_FEATURE_TEMP,	/* degrees C */
+	SW_NFEATURES,
+};
+
+struct sw_feature {
+	enum sw_feature_kind kind;
+	/* false: the value could not be read (EBUSY while a buffer streams) */
+	bool have_value;
+	double value;		/* in the kind's unit above */
+	int rate_hz;
+};
+
+/* What the hub runs and drives besides the fusion: status shows it. */
+struct sw_hub_info {
+	enum sw_fw_source fw_source;
+	char fw_why[160];	/* SW_FW_UNKNOWN: why, else "" */
+	unsigned int nfeatures;	/* 0: the board has none */
+	struct sw_feature features[SW_NFEATURES];	/* in slot order */
+};
+
 /*
  * Values read from the chip are input, not truth: true when every field of
  * cs is in range, else false with why saying which is not.

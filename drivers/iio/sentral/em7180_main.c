@@ -575,6 +575,15 @@ static ssize_t em7180_id_show(struct device *dev,
 	return sysfs_emit(buf, "0x%0*x\n", i < 2 ? 2 : 4, id[i]);
 }
 
+/* After a reset only a host-loaded chip needs its firmware file again */
+static ssize_t firmware_source_show(struct device *dev,
+				    struct device_attribute *attr, char *buf)
+{
+	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
+
+	return sysfs_emit(buf, "%s\n", data->fw ? "host" : "eeprom");
+}
+
 static IIO_DEVICE_ATTR(in_magn_calibration_auto_status, 0444,
 		       em7180_cal_show, NULL, EM7180_CAL_STATUS_MASK);
 static IIO_DEVICE_ATTR(in_magn_calibration_score, 0444,
@@ -589,6 +598,7 @@ static IIO_DEVICE_ATTR(product_id, 0444, em7180_id_show, NULL, 0);
 static IIO_DEVICE_ATTR(revision_id, 0444, em7180_id_show, NULL, 1);
 static IIO_DEVICE_ATTR(rom_version, 0444, em7180_id_show, NULL, 2);
 static IIO_DEVICE_ATTR(ram_version, 0444, em7180_id_show, NULL, 3);
+static IIO_DEVICE_ATTR_RO(firmware_source, 0);
 
 /**
  * em7180_warmstart_check() - validate a calibration_data attribute access
@@ -786,6 +796,7 @@ static struct attribute *em7180_attrs[] = {
 	&iio_dev_attr_revision_id.dev_attr.attr,
 	&iio_dev_attr_rom_version.dev_attr.attr,
 	&iio_dev_attr_ram_version.dev_attr.attr,
+	&iio_dev_attr_firmware_source.dev_attr.attr,
 	NULL
 };
 

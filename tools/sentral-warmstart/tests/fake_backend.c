@@ -159,6 +159,21 @@ static int f_offset_set(struct sw_backend *b, const int lsb[3],
 	return SW_EXIT_OK;
 }
 
+static int f_hub_info(struct sw_backend *b, struct sw_hub_info *hi,
+		      struct sw_err *e)
+{
+	struct fake_be *f = to_fake(b);
+
+	if (gone(f, e))
+		return e->code;
+	if (f->hub_fail)
+		return sw_err_set(e, f->hub_fail,
+				  "%s: reading in_pressure_raw: Input/output error",
+				  b->name);
+	*hi = f->hub;
+	return SW_EXIT_OK;
+}
+
 static void f_close(struct sw_backend *b)
 {
 	(void)b;
@@ -173,6 +188,7 @@ static const struct sw_backend_ops fake_ops = {
 	.accel_raw = f_accel_raw,
 	.accel_offset_get = f_offset_get,
 	.accel_offset_set = f_offset_set,
+	.hub_info = f_hub_info,
 	.close = f_close,
 };
 
@@ -217,6 +233,17 @@ void fake_init(struct fake_be *f, struct fake_clock *clk)
 	f->cs.score_raw = sw_score_raw(2.5);
 	f->status_after_write = 3;
 	fake_fill_blob(f->blob);
+	/* The USFS board: barometer and thermometer, firmware from its EEPROM */
+	f->hub.fw_source = SW_FW_EEPROM;
+	f->hub.nfeatures = 2;
+	f->hub.features[0] = (struct sw_feature){
+		.kind = SW_FEATURE_PRESSURE, .have_value = true,
+		.value = 100.012, .rate_hz = 25,
+	};
+	f->hub.features[1] = (struct sw_feature){
+		.kind = SW_FEATURE_TEMP, .have_value = true,
+		.value = 25.03, .rate_hz = 25,
+	};
 }
 
 static uint64_t f_now(void *clk)

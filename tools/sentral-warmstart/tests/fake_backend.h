@@ -53,6 +53,9 @@ struct fake_be {
 	uint64_t flags_cleared_ms;
 	/* from gone_ms on (when not 0) the device is gone: unbound, unplugged */
 	uint64_t gone_ms;
+	/* firmware origin and feature sensors; hub_fail: hub_info's exit code */
+	struct sw_hub_info hub;
+	int hub_fail;
 	/* called at each chip_info (the save policy's first look) */
 	void (*on_chip_info)(struct fake_be *f);
 	void *data;		/* the hook's */

@@ -66,6 +66,42 @@ static void test_current(void **state)
 	assert_string_equal(e.msg, "");
 }
 
+/*
+ * firmware_source and the feature sensors are optional: a driver before
+ * 7.3 (without them, as current[] is) and one with them both pass.
+ */
+static void test_optional(void **state)
+{
+	static const char *const with[] = {
+		"calibration_data", "product_id", "revision_id", "rom_version",
+		"ram_version", "firmware_source",
+		"in_magn_calibration_auto_status", "in_magn_calibration_score",
+		"in_magn_transient", "in_anglvel_calibration_update",
+		"in_magn_calibration_update",
+		"in_accel_x_raw", "in_accel_y_raw", "in_accel_z_raw",
+		"in_accel_x_calibbias", "in_accel_y_calibbias",
+		"in_accel_z_calibbias",
+		"in_magn_x_raw", "in_magn_y_raw", "in_magn_z_raw",
+		"in_magn_scale", "in_pressure_raw", "in_temp_raw", NULL,
+	};
+	struct dir d = { with, NULL };
+	struct sw_err e;
+
+	(void)state;
+	sw_err_clear(&e);
+	assert_int_equal(sw_abi_check("iio:device0", "1.1.0", has, &d, &e),
+			 SW_EXIT_OK);
+	d.without = "firmware_source";
+	assert_int_equal(sw_abi_check("iio:device0", "1.1.0", has, &d, &e),
+			 SW_EXIT_OK);
+	d.names = current;
+	d.without = NULL;
+	assert_int_equal(has("firmware_source", &d), false);
+	assert_int_equal(sw_abi_check("iio:device0", "1.1.0", has, &d, &e),
+			 SW_EXIT_OK);
+	assert_string_equal(e.msg, "");
+}
+
 /* The counters' driver: older, and the message says what to install. */
 static void test_older(void **state)
 {
@@ -166,6 +202,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_current),
+		cmocka_unit_test(test_optional),
 		cmocka_unit_test(test_older),
 		cmocka_unit_test(test_newer),
 		cmocka_unit_test(test_each_required),

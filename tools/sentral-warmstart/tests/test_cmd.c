@@ -537,6 +537,90 @@ static void test_status(void **state)
 	assert_non_null(strstr(out_text(c), "\"saved\":{\"calibration_status\":3,"));
 }
 
+/* The output of one status command, exit 0. */
+static const char *status_out(struct ctx *c)
+{
+	size_t from;
+
+	fflush(c->outf);
+	from = c->out_len;
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	fflush(c->outf);
+	return c->out + from;
+}
+
+/* Issue 23.6: where the firmware came from, and the feature sensors. */
+static void test_status_hub(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_feature *p = &c->fb.hub.features[0];
+
+	/* the USFS board: barometer and thermometer, an EEPROM */
+	assert_non_null(strstr(status_out(c),
+			       "ROM 0x09e6, RAM 0x0c05\n"
+			       "firmware:            from the board's EEPROM\n"
+			       "feature sensors:     pressure 100.012 kPa at 25 Hz\n"
+			       "                     temperature 25.03 C at 25 Hz\n"
+			       "calibration status:  3"));
+	c->o.json = true;
+	assert_non_null(strstr(status_out(c),
+			       "\"ram_version\":3077,\"firmware_source\":\"eeprom\",\"feature_sensors\":[{\"name\":\"pressure\",\"value\":100.012,\"unit\":\"kPa\",\"rate_hz\":25},{\"name\":\"temperature\",\"value\":25.03,\"unit\":\"C\",\"rate_hz\":25}],\"calibration_status\":3,"));
+
+	/* uploaded by the host; a buffer streams: no value, the rate still */
+	c->fb.hub.fw_source = SW_FW_HOST;
+	p->have_value = false;
+	c->o.json = false;
+	assert_non_null(strstr(status_out(c),
+			       "firmware:            uploaded by the host\n"
+			       "feature sensors:     pressure (no value while a buffer streams) at 25 Hz\n"
+			       "                     temperature 25.03 C at 25 Hz\n"));
+	c->o.json = true;
+	assert_non_null(strstr(status_out(c),
+			       "\"firmware_source\":\"host\",\"feature_sensors\":[{\"name\":\"pressure\",\"value\":null,\"unit\":\"kPa\",\"rate_hz\":25},{\"name\":\"temperature\",\"value\":25.03,"));
+
+	/* an older driver (no firmware_source); a board without any */
+	c->fb.hub.fw_source = SW_FW_UNKNOWN;
+	strcpy(c->fb.hub.fw_why,
+	       "this em7180 driver does not say: no firmware_source attribute");
+	c->fb.hub.nfeatures = 0;
+	c->o.json = false;
+	assert_non_null(strstr(status_out(c),
+			       "firmware:            unknown (this em7180 driver does not say: no firmware_source attribute)\n"
+			       "feature sensors:     none\n"));
+	c->o.json = true;
+	assert_non_null(strstr(status_out(c),
+			       ",\"firmware_source\":null,\"feature_sensors\":[],\"calibration_status\":3,"));
+
+	/* humidity: all three in slot order */
+	c->fb.hub.nfeatures = 3;
+	p->have_value = true;
+	c->fb.hub.features[2] = c->fb.hub.features[1];
+	c->fb.hub.features[1] = (struct sw_feature){
+		.kind = SW_FEATURE_HUMIDITY, .have_value = true,
+		.value = 45.004, .rate_hz = 10,
+	};
+	c->o.json = false;
+	assert_non_null(strstr(status_out(c),
+			       "feature sensors:     pressure 100.012 kPa at 25 Hz\n"
+			       "                     humidity 45.00 % at 10 Hz\n"
+			       "                     temperature 25.03 C at 25 Hz\n"));
+	c->o.json = true;
+	assert_non_null(strstr(status_out(c),
+			       "{\"name\":\"humidity\",\"value\":45.00,\"unit\":\"%\",\"rate_hz\":10},"));
+
+	/* failing to read them does not fail status */
+	c->fb.hub_fail = SW_EXIT_IO;
+	c->o.json = false;
+	assert_non_null(strstr(status_out(c),
+			       "firmware:            unknown (iio:device0: reading in_pressure_raw: Input/output error)\n"
+			       "feature sensors:     unknown (iio:device0: reading in_pressure_raw: Input/output error)\n"
+			       "calibration status:  3"));
+	c->o.json = true;
+	assert_non_null(strstr(status_out(c),
+			       ",\"firmware_source\":null,\"feature_sensors\":null,\"calibration_status\":3,"));
+}
+
 static int watch(struct ctx *c);
 
 /* Firmware whose calibration the driver does not report (no attributes) */
@@ -1615,6 +1699,7 @@ int main(void)
 		T(test_restore_missing_state_dir),
 		T(test_migrate_legacy_key),
 		T(test_status),
+		T(test_status_hub),
 		T(test_not_reported),
 		T(test_show),
 		T(test_calibrate),
