@@ -63,8 +63,6 @@
 #define EM7180_RESET_REQ_RESET		BIT(0)
 #define EM7180_PASSTHRU_ON		BIT(0)	/* control: enable; status: ready */
 
-#define EM7180_CAL_STATUS_MASK		GENMASK(1, 0)
-#define EM7180_CAL_MAG_TRANSIENT_MASK	GENMASK(3, 2)
 #define EM7180_CAL_FLAG_MAG_UPDATE	BIT(0)
 #define EM7180_CAL_FLAG_GBIAS_UPDATE	BIT(1)
 
@@ -91,13 +89,21 @@ struct em7180_feature {
 	unsigned int scan_index;
 };
 
-/* Calibration block as last read: 0x43, 0x4D | 0x4E << 8, 0x44 */
+/* The calibration as last read: AlgorithmStatus, 0x4D | 0x4E << 8, 0x44 */
 struct em7180_cal {
-	u8 status;
+	u8 algo;
 	u16 score;
 	u8 flags;		/* latched until the warm start is read or written */
 	bool valid;
 	unsigned long read_at;	/* jiffies */
+};
+
+/* What a calibration attribute shows (em7180_cal_show()) */
+enum em7180_cal_attr {
+	EM7180_CAL_ATTR_LEVEL,
+	EM7180_CAL_ATTR_SCORE,
+	EM7180_CAL_ATTR_MAG_UPDATE,
+	EM7180_CAL_ATTR_GBIAS_UPDATE,
 };
 
 struct firmware;
@@ -118,11 +124,9 @@ struct em7180_data {
 	u8 revision_id;
 	u16 rom_version;
 	u16 ram_version;
-	/* RAM versions whose 0x43, 0x44, 0x4D-0x4E hold the calibration */
-	const u32 *cal_fw;
-	unsigned int cal_fw_len;
-	bool cal_attrs;		/* the attributes exist (firmware at probe) */
-	bool cal_reported;	/* the firmware running reports them */
+	/* 0x43, 0x44, 0x4D-0x4E as the application note has them */
+	bool appnote_attrs;	/* at probe: the attributes exist */
+	bool appnote;		/* the firmware running has them */
 	/* Warm start to re-apply after a power loss or a reset */
 	bool ws_valid;
 	u8 ws[EM7180_WS_SIZE];
@@ -194,14 +198,14 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 int em7180_warmstart_read(struct em7180_data *data, u8 *buf);
 #endif
 
-/* Attribute address: a mask of flags << 8 | status, 0 for the score */
+/* Attribute address: enum em7180_cal_attr */
 ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 			char *buf);
 int em7180_score_milli(u16 raw);
-bool em7180_fw_listed(u16 ram, const u32 *table, unsigned int len);
-int em7180_cal_fw_read(struct em7180_data *data);
-void em7180_cal_fw_check(struct em7180_data *data, bool probe);
-void em7180_cal_update(struct em7180_cal *cal, const u8 *regs);
+int em7180_cal_level(u8 algo);
+bool em7180_cal_layout(u8 algo, const u8 *regs, bool agree);
+int em7180_cal_detect(struct em7180_data *data);
+void em7180_cal_update(struct em7180_data *data, const u8 *regs);
 void em7180_cal_saved(struct em7180_data *data);
 
 /* em7180_health.c: resets, recovery and error reports */

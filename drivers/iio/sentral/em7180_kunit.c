@@ -56,6 +56,7 @@ struct em7180_emu {
 	bool standby_stuck;		/* AlgorithmStatus never shows standby */
 	bool autoinc_stop;		/* the pointer stops at 0x3A and 0x63 */
 	bool passthru_stuck;		/* PassThruStatus never clears */
+	u8 algo_status;			/* AlgorithmStatus but bit 0 */
 	unsigned int ack_latency_us;
 	bool pending;
 	ktime_t req_time;
@@ -68,7 +69,6 @@ struct em7180_test {
 	struct device *dev;
 	struct em7180_emu emu;
 	struct em7180_data data;
-	u32 cal_fw;
 };
 
 static void emu_log(struct em7180_emu *emu, bool write, u8 reg,
@@ -188,9 +188,9 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 		return -EIO;
 
 	emu_serve(emu);
-	emu->regs[EM7180_REG_ALGO_STATUS] = emu->standby_stuck ? 0 :
-					    emu->regs[EM7180_REG_ALGO_CTRL] &
-					    EM7180_ALGO_CTRL_STANDBY;
+	emu->regs[EM7180_REG_ALGO_STATUS] = emu->algo_status |
+		(emu->standby_stuck ? 0 : emu->regs[EM7180_REG_ALGO_CTRL] &
+					  EM7180_ALGO_CTRL_STANDBY);
 	emu->regs[EM7180_REG_PASSTHRU_STATUS] = emu->passthru_stuck ?
 		EM7180_PASSTHRU_ON :
 		emu->regs[EM7180_REG_PASSTHRU_CTRL] & EM7180_PASSTHRU_ON;
@@ -242,12 +242,9 @@ static int em7180_test_init(struct kunit *test)
 
 	t->data.dev = t->dev;
 	t->data.regmap = map;
-	/* Probe found firmware known to report the calibration */
-	t->cal_fw = 0x0D17;
-	t->data.cal_fw = &t->cal_fw;
-	t->data.cal_fw_len = 1;
-	t->data.cal_attrs = true;
-	t->data.cal_reported = true;
+	/* Probe found firmware with the application note's registers */
+	t->data.appnote_attrs = true;
+	t->data.appnote = true;
 	mutex_init(&t->data.lock);
 	/* A transfer that cannot be ended asks for a recovery: none here */
 	INIT_DELAYED_WORK(&t->data.recover_work, emu_no_recovery);
@@ -1196,9 +1193,9 @@ static void em7180_test_pm_firmware_changed(struct kunit *test)
 	for (i = 1; i <= EM7180_WS_NUM_PARAMS; i++)
 		KUNIT_EXPECT_EQ_MSG(test, emu->params[i], 0U, "parameter %u", i);
 	KUNIT_EXPECT_FALSE(test, t->data.ws_valid);
-	/* not in the table: the attributes stay and read ENODATA */
-	KUNIT_EXPECT_FALSE(test, t->data.cal_reported);
-	KUNIT_EXPECT_TRUE(test, t->data.cal_attrs);
+	/* all zero 0x43-0x4E is no score: the attributes stay, read ENODATA */
+	KUNIT_EXPECT_FALSE(test, t->data.appnote);
+	KUNIT_EXPECT_TRUE(test, t->data.appnote_attrs);
 	/* configured and running all the same */
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_HOST_CTRL], EM7180_HOST_CTRL_RUN);
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_MAG_RATE], 30);
@@ -1516,19 +1513,6 @@ static struct kunit_suite em7180_param_suite = {
 	.test_cases = em7180_param_cases,
 };
 
-/* The table of firmware known to report the calibration */
-static void em7180_test_fw_listed(struct kunit *test)
-{
-	static const u32 table[] = { 0x0D17, 0x10E01, 0x0E01 };
-
-	KUNIT_EXPECT_TRUE(test, em7180_fw_listed(0x0D17, table, 3));
-	KUNIT_EXPECT_TRUE(test, em7180_fw_listed(0x0E01, table, 3));
-	KUNIT_EXPECT_FALSE(test, em7180_fw_listed(0x0E02, table, 3));
-	/* a property value beyond 16 bits matches no RAM version */
-	KUNIT_EXPECT_FALSE(test, em7180_fw_listed(0x0E01, table, 2));
-	KUNIT_EXPECT_FALSE(test, em7180_fw_listed(0x0D17, NULL, 0));
-}
-
 struct em7180_test_layout {
 	unsigned int flags;
 	int n;
@@ -1700,7 +1684,6 @@ static void em7180_test_fw_check(struct kunit *test)
 }
 
 static struct kunit_case em7180_format_cases[] = {
-	KUNIT_CASE(em7180_test_fw_listed),
 	KUNIT_CASE(em7180_test_feature_layout),
 	KUNIT_CASE(em7180_test_feature_channels),
 	KUNIT_CASE(em7180_test_float_table1),
@@ -1721,33 +1704,164 @@ static struct kunit_suite em7180_format_suite = {
 /* Registers 0x43..0x4E with CalStatus, the 0x44 flags and the score */
 static void test_cal_block(u8 *regs, u8 status, u8 flags, u16 score)
 {
-	memset(regs, 0, EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS);
+	memset(regs, 0, EM7180_CAL_BLOCK_LEN);
 	regs[0] = status;
 	regs[EM7180_REG_CAL_FLAGS - EM7180_REG_CAL_STATUS] = flags;
 	regs[EM7180_REG_CAL_SCORE - EM7180_REG_CAL_STATUS] = score & 0xff;
 	regs[EM7180_REG_CAL_SCORE + 1 - EM7180_REG_CAL_STATUS] = score >> 8;
 }
 
-/* A read folds the update flags in; other bits of 0x44 are no updates */
+/* AlgorithmStatus graded as bno055 grades its calibration: 0, then 1..4 */
+static void em7180_test_cal_level(struct kunit *test)
+{
+	static const struct {
+		u8 algo;
+		int level;
+	} cases[] = {
+		{ 0x00, 2 },		/* running, not stable */
+		{ 0x04, 2 },		/* still */
+		{ 0x08, 4 },		/* CalibStable */
+		{ 0x0c, 4 },		/* stable and still */
+		{ 0x18, 3 },		/* stable, magnetic transient */
+		{ 0x10, 2 },		/* transient, not stable */
+		{ 0x28, 1 },		/* stable but unreliable sensor data */
+		{ 0x20, 1 },
+		{ 0x01, 0 },		/* halted */
+		{ 0x3f, 0 },
+		{ 0x02, 2 },		/* slowdown */
+	};
+	unsigned int i;
+
+	for (i = 0; i < ARRAY_SIZE(cases); i++)
+		KUNIT_EXPECT_EQ_MSG(test, em7180_cal_level(cases[i].algo),
+				    cases[i].level, "AlgorithmStatus 0x%02x",
+				    cases[i].algo);
+}
+
+/*
+ * The application note's registers, against what a USFS board keeps there
+ * (linear acceleration in 0x3F-0x44, 0x4D-0x4E not a score)
+ */
+static void em7180_test_cal_layout(struct kunit *test)
+{
+	u8 regs[EM7180_CAL_BLOCK_LEN];
+
+	/* complete, stable; calibrating, not stable; with a transient */
+	test_cal_block(regs, 3, 0, 0x8384);
+	KUNIT_EXPECT_TRUE(test, em7180_cal_layout(0x08, regs, true));
+	test_cal_block(regs, 1, EM7180_CAL_FLAG_GBIAS_UPDATE, 0xc000);
+	KUNIT_EXPECT_TRUE(test, em7180_cal_layout(0x04, regs, true));
+	test_cal_block(regs, 2 << 2 | 3, 0, 0x8000);
+	KUNIT_EXPECT_TRUE(test, em7180_cal_layout(0x18, regs, true));
+	/* status and transient against AlgorithmStatus */
+	test_cal_block(regs, 3, 0, 0x8384);
+	KUNIT_EXPECT_FALSE(test, em7180_cal_layout(0x00, regs, true));
+	KUNIT_EXPECT_TRUE(test, em7180_cal_layout(0x00, regs, false));
+	test_cal_block(regs, 1, 0, 0x8384);
+	KUNIT_EXPECT_FALSE(test, em7180_cal_layout(0x08, regs, true));
+	KUNIT_EXPECT_FALSE(test, em7180_cal_layout(0x10, regs, true));
+	test_cal_block(regs, 1 << 2, 0, 0x8384);
+	KUNIT_EXPECT_FALSE(test, em7180_cal_layout(0x00, regs, true));
+	/* bits the note does not define; a negative score */
+	test_cal_block(regs, 0x12, 0, 0x8384);
+	KUNIT_EXPECT_FALSE(test, em7180_cal_layout(0, regs, false));
+	test_cal_block(regs, 1, 0x04, 0x8384);
+	KUNIT_EXPECT_FALSE(test, em7180_cal_layout(0, regs, false));
+	test_cal_block(regs, 1, 0, 0x7fff);
+	KUNIT_EXPECT_FALSE(test, em7180_cal_layout(0, regs, false));
+	/* a still USFS board: linear acceleration z 0x002e, GP22/23 zero */
+	test_cal_block(regs, 0x2e, 0x00, 0);
+	KUNIT_EXPECT_FALSE(test, em7180_cal_layout(0, regs, false));
+	/* z = -2: 0xfffe */
+	test_cal_block(regs, 0xfe, 0xff, 0x8000);
+	KUNIT_EXPECT_FALSE(test, em7180_cal_layout(0, regs, false));
+	/* nothing yet */
+	test_cal_block(regs, 0, 0, 0);
+	KUNIT_EXPECT_FALSE(test, em7180_cal_layout(0, regs, false));
+}
+
+/*
+ * Detection on the chip: one read of AlgorithmStatus and 0x43..0x4E; the
+ * flags that read cleared are kept.
+ */
+static void em7180_test_cal_detect(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_data *data = &t->data;
+	u8 *regs = &t->emu.regs[EM7180_REG_CAL_STATUS];
+
+	guard(mutex)(&data->lock);
+	test_cal_block(regs, 3, EM7180_CAL_FLAG_GBIAS_UPDATE, 0x8384);
+	t->emu.algo_status = 0x08;
+	KUNIT_ASSERT_EQ(test, em7180_cal_detect(data), 0);
+	KUNIT_EXPECT_TRUE(test, data->appnote);
+	KUNIT_EXPECT_EQ(test, data->cal.score, 0x8384);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE);
+
+	/* a USFS board: linear acceleration */
+	test_cal_block(regs, 0x2e, 0, 0);
+	KUNIT_ASSERT_EQ(test, em7180_cal_detect(data), 0);
+	KUNIT_EXPECT_FALSE(test, data->appnote);
+
+	/* a bus error: not reported */
+	test_cal_block(regs, 3, 0, 0x8384);
+	t->emu.nack_at = t->emu.transactions + 1;
+	KUNIT_EXPECT_EQ(test, em7180_cal_detect(data), -EIO);
+	KUNIT_EXPECT_FALSE(test, data->appnote);
+}
+
+/*
+ * A read the note's layout cannot hold ends the reporting; all zero, as
+ * right after a reset, does not.
+ */
+static void em7180_test_cal_demote(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_data *data = &t->data;
+	u8 regs[EM7180_CAL_BLOCK_LEN];
+
+	guard(mutex)(&data->lock);
+	test_cal_block(regs, 0, 0, 0);
+	em7180_cal_update(data, regs);
+	KUNIT_EXPECT_TRUE(test, data->appnote);
+	test_cal_block(regs, 2, 0, 0xa000);
+	em7180_cal_update(data, regs);
+	KUNIT_EXPECT_TRUE(test, data->appnote);
+	KUNIT_EXPECT_EQ(test, data->cal.score, 0xa000);
+	test_cal_block(regs, 0xe4, 0xff, 0xa000);
+	em7180_cal_update(data, regs);
+	KUNIT_EXPECT_FALSE(test, data->appnote);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, 0);
+	/* for good: a read that fits again does not bring it back */
+	test_cal_block(regs, 3, EM7180_CAL_FLAG_MAG_UPDATE, 0x8100);
+	em7180_cal_update(data, regs);
+	KUNIT_EXPECT_FALSE(test, data->appnote);
+	KUNIT_EXPECT_EQ(test, data->cal.score, 0xa000);
+}
+
+/* A read folds the update flags in, until the warm start is transferred */
 static void em7180_test_cal_fold(struct kunit *test)
 {
-	struct em7180_cal cal = { .score = 0xc000 };
-	u8 regs[EM7180_REG_CAL_SCORE + 2 - EM7180_REG_CAL_STATUS];
+	struct em7180_test *t = test->priv;
+	struct em7180_data *data = &t->data;
+	u8 regs[EM7180_CAL_BLOCK_LEN];
 
+	guard(mutex)(&data->lock);
 	test_cal_block(regs, 3 | 2 << 2, EM7180_CAL_FLAG_GBIAS_UPDATE, 0x8384);
-	em7180_cal_update(&cal, regs);
-	KUNIT_EXPECT_EQ(test, cal.status, 3 | 2 << 2);
-	KUNIT_EXPECT_EQ(test, cal.score, 0x8384);
-	KUNIT_EXPECT_EQ(test, cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE);
+	em7180_cal_update(data, regs);
+	KUNIT_EXPECT_EQ(test, data->cal.score, 0x8384);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE);
 	/* cleared on the chip by that read: the flag stays */
 	test_cal_block(regs, 2, 0, 0x8000);
-	em7180_cal_update(&cal, regs);
-	KUNIT_EXPECT_EQ(test, cal.status, 2);
-	KUNIT_EXPECT_EQ(test, cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE);
-	test_cal_block(regs, 2, 0xfc | EM7180_CAL_FLAG_MAG_UPDATE, 0x8000);
-	em7180_cal_update(&cal, regs);
-	KUNIT_EXPECT_EQ(test, cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE |
+	em7180_cal_update(data, regs);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE);
+	test_cal_block(regs, 2, EM7180_CAL_FLAG_MAG_UPDATE, 0x8000);
+	em7180_cal_update(data, regs);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE |
 			EM7180_CAL_FLAG_MAG_UPDATE);
+	em7180_cal_saved(data);
+	KUNIT_EXPECT_EQ(test, data->cal.flags, 0);
+	KUNIT_EXPECT_FALSE(test, data->cal.valid);
 }
 
 /*
@@ -1763,18 +1877,17 @@ static void em7180_test_cal_flags_until_saved(struct kunit *test)
 	u32 val;
 
 	guard(mutex)(&data->lock);
-	t->emu.regs[EM7180_REG_CAL_FLAGS] = EM7180_CAL_FLAG_GBIAS_UPDATE;
-	t->emu.regs[EM7180_REG_CAL_STATUS] = 3;
+	test_cal_block(&t->emu.regs[EM7180_REG_CAL_STATUS], 3,
+		       EM7180_CAL_FLAG_GBIAS_UPDATE, 0x8384);
 	before = t->emu.transactions;
 	KUNIT_ASSERT_EQ(test, em7180_params_read(data, 1, 1, &val), 0);
 	/* request, bit 7, one poll, the stop and its poll, bit 7 clear */
 	KUNIT_EXPECT_EQ(test, t->emu.transactions - before, 6U);
 	KUNIT_EXPECT_EQ(test, t->emu.regs[EM7180_REG_CAL_FLAGS], 0);
 	KUNIT_EXPECT_EQ(test, data->cal.flags, EM7180_CAL_FLAG_GBIAS_UPDATE);
-	KUNIT_EXPECT_EQ(test, data->cal.status, 3);
+	KUNIT_EXPECT_EQ(test, data->cal.score, 0x8384);
 	em7180_cal_saved(data);
 	KUNIT_EXPECT_EQ(test, data->cal.flags, 0);
-	KUNIT_EXPECT_FALSE(test, data->cal.valid);
 
 	/* a write takes them in too */
 	t->emu.regs[EM7180_REG_CAL_FLAGS] = EM7180_CAL_FLAG_MAG_UPDATE;
@@ -1784,10 +1897,10 @@ static void em7180_test_cal_flags_until_saved(struct kunit *test)
 }
 
 /*
- * Firmware not known to report the calibration: a transfer reads the echo
- * alone, never 0x44, whose flag stays latched on the chip
+ * Firmware without the note's registers: a transfer reads the echo alone,
+ * never 0x44, which may be another sensor's data
  */
-static void em7180_test_cal_unknown_firmware(struct kunit *test)
+static void em7180_test_cal_standard_firmware(struct kunit *test)
 {
 	struct em7180_test *t = test->priv;
 	struct em7180_data *data = &t->data;
@@ -1795,9 +1908,9 @@ static void em7180_test_cal_unknown_firmware(struct kunit *test)
 	u32 val;
 
 	guard(mutex)(&data->lock);
-	data->cal_reported = false;
-	t->emu.regs[EM7180_REG_CAL_FLAGS] = EM7180_CAL_FLAG_GBIAS_UPDATE;
-	t->emu.regs[EM7180_REG_CAL_STATUS] = 3;
+	data->appnote = false;
+	test_cal_block(&t->emu.regs[EM7180_REG_CAL_STATUS], 3,
+		       EM7180_CAL_FLAG_GBIAS_UPDATE, 0x8384);
 	t->emu.n_log = 0;
 	before = t->emu.transactions;
 	KUNIT_ASSERT_EQ(test, em7180_params_read(data, 1, 1, &val), 0);
@@ -1811,13 +1924,17 @@ static void em7180_test_cal_unknown_firmware(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, t->emu.regs[EM7180_REG_CAL_FLAGS],
 			EM7180_CAL_FLAG_GBIAS_UPDATE);
 	KUNIT_EXPECT_EQ(test, data->cal.flags, 0);
-	KUNIT_EXPECT_EQ(test, data->cal.status, 0);
+	KUNIT_EXPECT_EQ(test, data->cal.score, 0);
 }
 
 static struct kunit_case em7180_cal_cases[] = {
+	KUNIT_CASE(em7180_test_cal_level),
+	KUNIT_CASE(em7180_test_cal_layout),
+	KUNIT_CASE(em7180_test_cal_detect),
+	KUNIT_CASE(em7180_test_cal_demote),
 	KUNIT_CASE(em7180_test_cal_fold),
 	KUNIT_CASE(em7180_test_cal_flags_until_saved),
-	KUNIT_CASE(em7180_test_cal_unknown_firmware),
+	KUNIT_CASE(em7180_test_cal_standard_firmware),
 	{ }
 };
 

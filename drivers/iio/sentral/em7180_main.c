@@ -585,15 +585,13 @@ static ssize_t firmware_source_show(struct device *dev,
 }
 
 static IIO_DEVICE_ATTR(in_magn_calibration_auto_status, 0444,
-		       em7180_cal_show, NULL, EM7180_CAL_STATUS_MASK);
+		       em7180_cal_show, NULL, EM7180_CAL_ATTR_LEVEL);
 static IIO_DEVICE_ATTR(in_magn_calibration_score, 0444,
-		       em7180_cal_show, NULL, 0);
-static IIO_DEVICE_ATTR(in_magn_transient, 0444,
-		       em7180_cal_show, NULL, EM7180_CAL_MAG_TRANSIENT_MASK);
+		       em7180_cal_show, NULL, EM7180_CAL_ATTR_SCORE);
 static IIO_DEVICE_ATTR(in_anglvel_calibration_update, 0444, em7180_cal_show,
-		       NULL, EM7180_CAL_FLAG_GBIAS_UPDATE << 8);
+		       NULL, EM7180_CAL_ATTR_GBIAS_UPDATE);
 static IIO_DEVICE_ATTR(in_magn_calibration_update, 0444, em7180_cal_show,
-		       NULL, EM7180_CAL_FLAG_MAG_UPDATE << 8);
+		       NULL, EM7180_CAL_ATTR_MAG_UPDATE);
 static IIO_DEVICE_ATTR(product_id, 0444, em7180_id_show, NULL, 0);
 static IIO_DEVICE_ATTR(revision_id, 0444, em7180_id_show, NULL, 1);
 static IIO_DEVICE_ATTR(rom_version, 0444, em7180_id_show, NULL, 2);
@@ -789,7 +787,6 @@ static BIN_ATTR_ADMIN_RW(calibration_data, 0);
 static struct attribute *em7180_attrs[] = {
 	&iio_dev_attr_in_magn_calibration_auto_status.dev_attr.attr,
 	&iio_dev_attr_in_magn_calibration_score.dev_attr.attr,
-	&iio_dev_attr_in_magn_transient.dev_attr.attr,
 	&iio_dev_attr_in_anglvel_calibration_update.dev_attr.attr,
 	&iio_dev_attr_in_magn_calibration_update.dev_attr.attr,
 	&iio_dev_attr_product_id.dev_attr.attr,
@@ -805,7 +802,7 @@ static em7180_bin_attribute *em7180_bin_attrs[] = {
 	NULL
 };
 
-/* Asked once, at registration: the calibration attributes per firmware */
+/* Asked once, at registration: the application note's, per firmware */
 static umode_t em7180_attr_is_visible(struct kobject *kobj,
 				      struct attribute *attr, int n)
 {
@@ -814,7 +811,8 @@ static umode_t em7180_attr_is_visible(struct kobject *kobj,
 						      struct device_attribute,
 						      attr);
 
-	if (dattr->show == em7180_cal_show && !data->cal_attrs)
+	if (dattr->show == em7180_cal_show && !data->appnote_attrs &&
+	    to_iio_dev_attr(dattr)->address != EM7180_CAL_ATTR_LEVEL)
 		return 0;
 
 	return attr->mode;
@@ -1470,11 +1468,6 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 		return dev_err_probe(dev, ret,
 				     "failed to read firmware versions\n");
 
-	ret = em7180_cal_fw_read(data);
-	if (ret)
-		return ret;
-	em7180_cal_fw_check(data, true);
-
 	ret = em7180_feature_probe(indio_dev, em7180_channels,
 				   ARRAY_SIZE(em7180_channels));
 	if (ret)
@@ -1489,11 +1482,20 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 		return ret;
 
 	/* Streaming works without: calibbias reads fail until a transfer */
-	scoped_guard(mutex, &data->lock)
+	scoped_guard(mutex, &data->lock) {
 		ret = em7180_accel_offset_fetch(data);
+		if (ret)
+			dev_warn(dev, "cannot read the accelerometer offsets: %d\n",
+				 ret);
+		ret = em7180_cal_detect(data);
+		data->appnote_attrs = data->appnote;
+	}
 	if (ret)
-		dev_warn(dev, "cannot read the accelerometer offsets: %d\n",
-			 ret);
+		return dev_err_probe(dev, ret, "failed to read the calibration state\n");
+	dev_info(dev, "firmware ROM 0x%04x RAM 0x%04x from %s, calibration %s\n",
+		 data->rom_version, data->ram_version,
+		 data->fw ? "the host" : "EEPROM",
+		 data->appnote ? "with score" : "from AlgorithmStatus");
 
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;
@@ -1596,6 +1598,7 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 			u16 *ram)
 {
 	unsigned int status = 0;
+	bool appnote;
 	int ret, err;
 
 	ret = read_poll_timeout(em7180_read_status, err, !err,
@@ -1629,12 +1632,22 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 	}
 
 	ret = em7180_read_versions(data);
-	if (!ret) {
-		em7180_cal_fw_check(data, false);
+	if (!ret)
 		ret = em7180_chip_configure(data, true);
-	}
 	if (!ret)
 		ret = em7180_restore_calibration(data, *rom, *ram);
+	if (ret || *ram == data->ram_version)
+		return ret;
+
+	/* Other firmware may keep other things in 0x43-0x4E */
+	appnote = data->appnote;
+	ret = em7180_cal_detect(data);
+	if (!ret && data->appnote != appnote)
+		dev_info(data->dev, "firmware RAM 0x%04x: calibration %s\n",
+			 data->ram_version,
+			 !data->appnote ? "score not reported" :
+			 data->appnote_attrs ? "score reported again" :
+			 "score reported after a rebind");
 
 	return ret;
 }

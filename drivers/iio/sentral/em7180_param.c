@@ -280,8 +280,8 @@ static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
  * Some firmware keeps the last echo after a transfer, which would pass for
  * the acknowledge of an equal first request: read it, and request another
  * parameter first if so. The read takes the latched calibration flags
- * along (they belong to the state saved or replaced), on firmware known
- * to keep them there.
+ * along (they belong to the state saved or replaced), on firmware that
+ * keeps them there.
  */
 static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 			      bool *started)
@@ -289,7 +289,7 @@ static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 	u8 regs[EM7180_ACK_CAL_LEN];
 	u8 *cal = &regs[EM7180_REG_CAL_STATUS - EM7180_REG_PARAM_ACK];
 	bool single = data->param_single;
-	bool flags = data->cal_reported;
+	bool flags = data->appnote;
 	u32 dummy;
 	int ret;
 
@@ -301,7 +301,7 @@ static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 	if (ret)
 		return ret;
 	if (flags && (single || memchr_inv(regs, regs[0], sizeof(regs))))
-		em7180_cal_update(&data->cal, cal);
+		em7180_cal_update(data, cal);
 	if (regs[0] != first_req)
 		return 0;
 
