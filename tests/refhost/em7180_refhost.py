@@ -10,7 +10,8 @@ transaction, a multi-byte value read as the Raspberry Pi library reads it
 the chip's pointer moving on between them), LoadParamByte0..3 written one
 by one, then ParamRequest, then AlgorithmControl, ParamAcknowledge polled
 alone. Polls are bounded (5 ms steps, 1 s like EM's host driver) where the
-libraries loop forever.
+libraries loop forever. The linear acceleration is read where Greg
+Tomasch's utilities read it on a USFS board (0x3F..0x44).
 
 It prints what it saw as "key value" lines for the test to judge, and
 exits 1 with a message on stderr when the chip did not answer as the
@@ -40,6 +41,7 @@ ALGORITHM_STATUS = 0x38
 FEATURE_FLAGS = 0x39
 PARAM_ACK = 0x3A
 SAVED_PARAM0 = 0x3B
+LIN_ACCEL = 0x3F            # GP8..GP13 on the USFS (GT's LIN_ACC_getADC)
 ACTUAL_MAG_RATE = 0x45
 ERROR_REGISTER = 0x50
 ALGORITHM_CONTROL = 0x54
@@ -252,6 +254,10 @@ def main():
     a = h.three_axis(AX)
     put("accel_lsb", " ".join(str(v) for v in a))
     put("accel_g", f"{math.sqrt(sum(v * v for v in a)) * ACCEL_G_PER_LSB:.4f}")
+    lin = h.three_axis(LIN_ACCEL)
+    put("lin_accel_lsb", " ".join(str(v) for v in lin))
+    put("lin_accel_g",
+        f"{math.sqrt(sum(v * v for v in lin)) * ACCEL_G_PER_LSB:.4f}")
 
     h.passthrough_on()
     put("passthru_status_on", f"0x{h.read1(PASSTHRU_STATUS):02x}")
