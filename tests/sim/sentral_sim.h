@@ -20,7 +20,7 @@
 #include "sim-usfs.h"
 
 #define SIM_I2C_ADDR		0x28
-/* RAMVersion at load, and what the client's emmicro,calibration-firmware names */
+/* RAMVersion at load */
 #define SIM_RAM_VERSION		0x0d17
 
 /* Register addresses, EM7180 register reference §1 */
