@@ -4,7 +4,9 @@
 #
 # Calibration on the simulated EM7180: progress while in motion, score,
 # latched update flags, gyro bias learned while still, a restored warm start
-# complete at once, MagTransient.
+# complete at once, MagTransient; in the application note's registers
+# (appnote_layout 1, set at load), then on the default USFS board, where
+# AlgorithmStatus alone shows the same model.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/sim/testlib.sh"
 
@@ -13,8 +15,8 @@ score() {
 	echo $(($1 | $2 << 8))
 }
 
-sim_load
-is "load the simulator" $? 0
+sim_load knobs=appnote_layout=1
+is "load the simulator with the application note's layout" $? 0
 is "CalStatus 0 at power-on" "$(sim_rd 0x43)" 0x00
 is "score 50% at power-on: 32768 + 50 * 327.68" "$(score)" 49152
 is "no update flags" "$(sim_rd 0x44)" 0x00
@@ -98,5 +100,37 @@ ok "mag_transient 2" knob mag_transient 2
 is "0x43 bits 3:2 carry MagTransient" "$(sim_rd 0x43)" 0x09
 is "AlgorithmStatus bit 4" $(( $(sim_rd 0x38) & 0x10 )) 16
 nok "mag_transient 4 refused" knob mag_transient 4
+ok "mag_transient 0" knob mag_transient 0
+
+# The default board: the same model, seen through AlgorithmStatus bit 3
+# (CalibStable) and the warm-start parameters; debugfs state shows its
+# status and score.
+ok "appnote_layout 0" knob appnote_layout 0
+is "the model: status 1, score 23.294 %" \
+	"$(dbg_get state cal_status) $(dbg_get state score_raw)" \
+	"1 $((32768 + (23294 * 32768 + 50000) / 100000))"
+is "AlgorithmStatus: not CalibStable" $(( $(sim_rd 0x38) & 0x08 )) 0
+ok "power cycle" knob power_cycle 1
+ok "upload done" sim_wait_upload
+ok "run" sim_wr 0x34 0x01
+ok "begin parameter transfer" param_begin
+i=18
+for v in $saved; do
+	param_write $i "$v" || break
+	i=$((i + 1))
+done
+is "6 coefficients restored" $i 24
+ok "end parameter transfer" param_end
+is "AlgorithmStatus bit 3 (CalibStable) at once after the warm start" \
+	$(( $(sim_rd 0x38) & 0x08 )) 8
+is "the model: status 3, the score of the restored coefficients" \
+	"$(dbg_get state cal_status) $(dbg_get state score_raw)" "3 33653"
+is "0x43..0x44 and 0x4D..0x4E show none of it (no accel rate: 0)" \
+	"$(sim_rd 0x43 2) $(sim_rd 0x4d 2)" "0x00 0x00 0x00 0x00"
+ok "motion" knob motion 1
+ok "mag_transient 1" knob mag_transient 1
+is "AlgorithmStatus: CalibStable and MagTransient, not still" \
+	"$(sim_rd 0x38)" 0x18
+ok "mag_transient 0, still" sh -c "echo 0 >$SIM_DBG/mag_transient && echo 0 >$SIM_DBG/motion"
 ok "unload" sim_unload
 done_testing

@@ -3,8 +3,9 @@
 # uml-args: --no-modules
 #
 # Sensor data of the simulated EM7180: accel gravity + bias and the seed's
-# Table 1 offsets, gyro bias + noise, mag field, quaternion, timestamps
-# counting samples, EventStatus bits for enabled events, sample accounting
+# Table 1 offsets, linear acceleration (the USFS's 0x3F..0x44), gyro bias
+# + noise, mag field, quaternion, timestamps counting samples, EventStatus
+# bits for enabled events, sample accounting
 # (read, missed, gaps, and whose loss a lost sample is); EventStatus latching
 # every event while EnableEvents gates the INT pin (and the gated model as
 # the events_gated knob); the Error event with ErrorRegister and
@@ -15,6 +16,8 @@
 sim_load
 is "load the simulator" $? 0
 is "data registers are 0 before the first sample" "$(sim_rd 0x1a 6)" \
+	"0x00 0x00 0x00 0x00 0x00 0x00"
+is "linear acceleration (0x3F..0x44) too" "$(sim_rd 0x3f 6)" \
 	"0x00 0x00 0x00 0x00 0x00 0x00"
 
 ok "accel 100 Hz, gyro 100 Hz, mag 10 Hz, quaternion divisor 1" \
@@ -47,6 +50,9 @@ is "accel = gravity (0, 0, 2048) + bias (-47, -15, 46)" \
 is "ATIME = floor(n * 32768 / 100) mod 65536" $(( $7 | $8 << 8 )) \
 	"$(( (accel * 32768 / 100) & 0xffff ))"
 is "reading the accel block counts as read" "$(dbg_get samples accel_read)" 1
+set -- $(sim_rd 0x3f 6)
+is "linear acceleration = the reading less gravity: the bias" \
+	"$(s16 $1 $2) $(s16 $3 $4) $(s16 $5 $6)" "-47 -15 46"
 
 set -- $(sim_rd 0x00 18)
 is "quaternion identity x, y, z = 0, w = 1.0f (w last)" "$*" \
@@ -77,6 +83,8 @@ sleep 0.1
 set -- $(sim_rd 0x1a 6)
 is "accel with Table 1 offsets = 0, 0, 2048" \
 	"$(s16 $1 $2) $(s16 $3 $4) $(s16 $5 $6)" "0 0 2048"
+is "and no linear acceleration" "$(sim_rd 0x3f 6)" \
+	"0x00 0x00 0x00 0x00 0x00 0x00"
 
 ok "accel_bias knob" knob accel_bias "100 -200 0"
 is "accel_bias reads back" "$(cat "$SIM_DBG/accel_bias")" "100 -200 0"
@@ -85,6 +93,9 @@ sleep 0.1
 set -- $(sim_rd 0x1a 6)
 is "accel follows the bias minus the offsets" \
 	"$(s16 $1 $2) $(s16 $3 $4) $(s16 $5 $6)" "147 -185 2002"
+set -- $(sim_rd 0x3f 6)
+is "linear acceleration follows with each accel sample" \
+	"$(s16 $1 $2) $(s16 $3 $4) $(s16 $5 $6)" "147 -185 -46"
 
 # The algorithm pauses during a parameter transfer: no samples.
 ok "begin parameter transfer" param_begin

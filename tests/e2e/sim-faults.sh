@@ -76,6 +76,10 @@ ok "begin" param_begin
 ok "write param 27" param_write 27 0x3f000000
 ok "end" param_end
 ok "motion" knob motion 1
+sleep 0.1
+set -- $(sim_rd 0x3f 2)
+is "linear acceleration x: bias -47 less 0.5 g (1025 LSB) of offset" \
+	"$(s16 $1 $2)" -1072
 ok "upload_ms 2000" knob upload_ms 2000
 ok "power_cycle 1" knob power_cycle 1
 is "SentralStatus during the upload: EEPROM detected only" "$(sim_rd 0x37)" 0x01
@@ -88,7 +92,9 @@ is "HostControl 0, EventStatus CPUReset" "$(sim_rd 0x34 2)" "0x00 0x01"
 is "EnableEvents 0" "$(sim_rd 0x33)" 0x00
 is "rates 0" "$(sim_rd 0x55 3)" "0x00 0x00 0x00"
 is "parameters back to defaults" "$(cat "$SIM_DBG/params")" "$defaults"
-is "CalStatus 0" "$(sim_rd 0x43)" 0x00
+is "calibration lost: the model's CalStatus 0" "$(dbg_get state cal_status)" 0
+is "linear acceleration 0 until an accel sample" "$(sim_rd 0x3f 6)" \
+	"0x00 0x00 0x00 0x00 0x00 0x00"
 is "motion knob survives (it is the world, not the chip)" "$(cat "$SIM_DBG/motion")" 1
 nok "power_cycle accepts only 1" knob power_cycle 2
 knob motion 0

@@ -7,11 +7,14 @@
 # reference's sequences (one register per SMBus transaction, in the order
 # of the hosts that others ran on real boards), not from our driver. Reset
 # and status, master-mode setup with the LPF before the rates, events 0x07,
-# parameter reads and writes, full-scale parameters 74/75, passthrough on
-# and off; on the USFS board (barometer reported) and on one without a
-# barometer. It must see what those hosts see on silicon: every data bit in
-# EventStatus after the setup, a unit quaternion, |a| of about 1 g, the
-# written parameters read back. Run under the default knobs and with
+# parameter reads and writes, full-scale parameters 74/75, linear
+# acceleration where GT reads it, a barometer event read as the boards'
+# examples read it (BaroRate set, TempRate not: Baro, then Temp at 0x2E),
+# passthrough on and off; on the USFS board (barometer reported) and on one
+# without a barometer. It must see what those hosts see on silicon: every
+# data bit in EventStatus after the setup, a unit quaternion, |a| of about
+# 1 g with gravity gone from the linear acceleration, a room temperature,
+# the written parameters read back. Run under the default knobs and with
 # autoinc_stop (no auto-increment across 0x3A->0x3B, 0x63->0x64), which no
 # reference host needs; under events_gated it must fail.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
@@ -62,6 +65,16 @@ refhost_run() {
 		within "$(r quat_norm)" 0.9999 1.0001
 	ok "$label: |a| $(r accel_g) g within 5% of 1 g" \
 		within "$(r accel_g)" 0.95 1.05
+	ok "$label: linear acceleration $(r lin_accel_lsb) LSB, $(r lin_accel_g) g: gravity removed" \
+		within "$(r lin_accel_g)" 0 0.05
+	if [ "$want_ff" = 0x05 ]; then
+		ok "$label: pressure $(r pressure_mbar) mbar on a barometer event: 1000 within 1" \
+			within "$(r pressure_mbar)" 999 1001
+		ok "$label: temperature $(r temperature_c) C from 0x2E with no TempRate: the MS5637's 25 C within 0.5" \
+			within "$(r temperature_c)" 24.5 25.5
+	else
+		is "$label: no barometer to read" "$(r temperature_c)" ""
+	fi
 	is "$label: passthrough on: PassThruStatus 1" "$(r passthru_status_on)" 0x01
 	is "$label: algorithm in standby (still)" "$(r algorithm_status_on)" 0x05
 	is "$label: no data while in passthrough" "$(r event_status_in_passthrough)" 0x00

@@ -5,7 +5,9 @@
 # The simulated EM7180's register map: identity, status after power-on,
 # clear-on-read, auto-increment block reads and writes, the register
 # pointer across a STOP, auto-increment that stops at 0x3A and 0x63
-# (autoinc_stop), rates, the identity knobs.
+# (autoinc_stop), rates, the identity knobs; a USFS board's linear
+# acceleration in 0x3F..0x44 and the knobs for the application note's
+# layout (appnote_layout) and AlgorithmStatus bits (algo_status_or).
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/sim/testlib.sh"
 
@@ -106,5 +108,85 @@ ok "ParamRequest 0" sim_wr 0x64 0x00
 
 is "regs dump line 0x90" "$(grep '^90:' "$SIM_DBG/regs")" \
 	"90: 80 02 00 00 00 00 00 00 00 00 00 00 00 00 00 00"
+
+# A USFS board by default: 0x3F..0x44 (GP8..GP13) hold the linear
+# acceleration Greg Tomasch's utilities read there, 0x4D..0x4E read 0; the
+# application note's calibration registers are the knob appnote_layout.
+is "appnote_layout 0 by default" "$(cat "$SIM_DBG/appnote_layout")" 0
+is "algo_status_or 0x00 by default" "$(cat "$SIM_DBG/algo_status_or")" 0x00
+lin=$(sim_rd 0x3f 6)
+ok "linear acceleration ($lin) from the accel samples of the run above" \
+	test "$lin" != "0x00 0x00 0x00 0x00 0x00 0x00"
+ok "ResetRequest" sim_wr 0x9b 0x01
+ok "upload done" sim_wait_upload
+is "linear acceleration 0 after a reset, until an accel sample" \
+	"$(sim_rd 0x3f 6)" "0x00 0x00 0x00 0x00 0x00 0x00"
+is "0x4D..0x4E read 0" "$(sim_rd 0x4d 2)" "0x00 0x00"
+ok "gyro bias period 100 ms" knob gbias_period_ms 100
+ok "mag, accel and gyro rates" sim_wr 0x55 0x0a 0x0a 0x0a
+ok "run" sim_wr 0x34 0x01
+sleep 0.35
+ok "stop" sim_wr 0x34 0x00
+set -- $(sim_rd 0x3f 6)
+is "still and level: linear acceleration = the accel bias" \
+	"$(s16 $1 $2) $(s16 $3 $4) $(s16 $5 $6)" "-47 -15 46"
+is "0x43/0x44 are bytes of z, and a read does not clear 0x44" \
+	"$(echo $(sim_xfer w1@$SIM_ADDR 0x43 r2 w1@$SIM_ADDR 0x43 r2))" \
+	"0x2e 0x00 0x2e 0x00"
+ok "the model learned the gyro bias all the same" \
+	[ "$(dbg_get cal_updates gbias)" -ge 1 ]
+is "those reads of 0x44 are not reads of its flag" \
+	"$(dbg_get cal_updates gbias_read)" 0
+ok "mag_transient 2" knob mag_transient 2
+is "AlgorithmStatus bit 4 (and still)" "$(sim_rd 0x38)" 0x14
+is "0x43 is not touched by it" "$(sim_rd 0x43)" 0x2e
+is "0x4D..0x4E still 0" "$(sim_rd 0x4d 2)" "0x00 0x00"
+
+ok "appnote_layout 1: the application note's layout" knob appnote_layout 1
+is "0x3F..0x42 read 0" "$(sim_rd 0x3f 4)" "0x00 0x00 0x00 0x00"
+is "0x43: CalStatus 0, MagTransient in bits 3:2" "$(sim_rd 0x43)" 0x08
+is "0x44: gBiasUpdate latched, cleared when read" \
+	"$(echo $(sim_xfer w1@$SIM_ADDR 0x44 r1 w1@$SIM_ADDR 0x44 r1))" "0x02 0x00"
+ok "and counted as read" [ "$(dbg_get cal_updates gbias_read)" -ge 1 ]
+is "0x4D..0x4E: the score, 50 % at power-on (raw 49152)" "$(sim_rd 0x4d 2)" \
+	"0x00 0xc0"
+ok "appnote_layout 0" knob appnote_layout 0
+is "linear acceleration again" "$(sim_rd 0x3f 6)" \
+	"0xd1 0xff 0xf1 0xff 0x2e 0x00"
+nok "appnote_layout refuses 2" knob appnote_layout 2
+ok "mag_transient 0" knob mag_transient 0
+
+ok "algo_status_or 0x20: unreliable sensor data" knob algo_status_or 0x20
+is "AlgorithmStatus: still and bit 5" "$(sim_rd 0x38)" 0x24
+is "algo_status_or reads back" "$(cat "$SIM_DBG/algo_status_or")" 0x20
+ok "algo_status_or 0xc0: the reserved bits, as a glitch" knob algo_status_or 0xc0
+is "AlgorithmStatus: still and bits 7:6" "$(sim_rd 0x38)" 0xc4
+ok "algo_status_or 0xff" knob algo_status_or 0xff
+is "AlgorithmStatus 0xff, as a bus glitch reads" "$(sim_rd 0x38)" 0xff
+nok "algo_status_or refuses 0x100" knob algo_status_or 0x100
+is "and keeps its value" "$(cat "$SIM_DBG/algo_status_or")" 0xff
+# Only what AlgorithmStatus reads changes: a standby shown by the knob is
+# not the chip's.
+ok "algo_status_or 0x01, standby_power_loss 1" \
+	sh -c "echo 1 >$SIM_DBG/algo_status_or && echo 1 >$SIM_DBG/standby_power_loss"
+is "AlgorithmStatus shows standby" "$(sim_rd 0x38)" 0x05
+is "the chip is not in standby: it keeps its power" \
+	"$(cat "$SIM_DBG/standby_power_loss") $(sim_rd 0x55 3)" "1 0x0a 0x0a 0x0a"
+ok "standby_power_loss 0" knob standby_power_loss 0
+ok "algo_status_or 0" knob algo_status_or 0
+is "AlgorithmStatus: still only" "$(sim_rd 0x38)" 0x04
 ok "unload" sim_unload
+
+# Both knobs at load, as a driver would find the chip.
+sim_load knobs=appnote_layout=1,algo_status_or=0x20
+is "load with knobs=appnote_layout=1,algo_status_or=0x20" $? 0
+is "the knobs read back" \
+	"$(cat "$SIM_DBG/appnote_layout") $(cat "$SIM_DBG/algo_status_or")" "1 0x20"
+is "AlgorithmStatus: still and bit 5" "$(sim_rd 0x38)" 0x24
+is "0x43, 0x44 and the score as the application note has them" \
+	"$(sim_rd 0x43 2) $(sim_rd 0x4d 2)" "0x00 0x00 0x00 0xc0"
+ok "unload" sim_unload
+nok "knobs=algo_status_or=0x100 fails the load" \
+	insmod "$SIM_KO" knobs=algo_status_or=0x100
+nok "and leaves no module" test -d /sys/module/sentral_sim
 done_testing

@@ -3,8 +3,10 @@
 # uml-args: --no-modules
 #
 # The simulated EM7180 on a USFS board: feature sensors (FeatureFlags,
-# rates with the report bit, data and timestamps, both readings of the
-# barometer rate, other FeatureFlags) and the hub's sensor bus behind
+# rates with the report bit, data and timestamps, the temperature slot
+# filled by each barometer sample as well as at its own rate, both
+# readings of the barometer rate, other FeatureFlags) and the hub's
+# sensor bus behind
 # passthrough (nothing answers while it is off; with it, i2cdetect sees the
 # EEPROM, its ID page and the sensors; EEPROM writes, read-back, page
 # roll-over, the write cycle, the image set through debugfs; sensor
@@ -46,13 +48,13 @@ is "baro in slot 0, temperature in slot 1" \
 is "EventStatus after power-on: CPUReset" "$(sim_rd 0x35)" 0x01
 is "feature data 0 before any sample" "$(sim_rd 0x2a 8)" \
 	"0x00 0x00 0x00 0x00 0x00 0x00 0x00 0x00"
-ok "BaroRate 25 Hz with the report bit, TempRate 10 Hz without" \
-	sim_wr 0x58 0x99 0x0a
+# As the boards' examples (KW, GT, SL) configure it: BaroRate alone.
+ok "BaroRate 25 Hz with the report bit, no TempRate" sim_wr 0x58 0x99 0x00
 is "actual rates 0 while HostControl bit 0 is clear" "$(sim_rd 0x48 3)" \
 	"0x00 0x00 0x00"
 ok "HostControl run" sim_wr 0x34 0x01
-is "actual baro and temperature rates: 25 and 10 Hz" "$(sim_rd 0x48 3)" \
-	"0x19 0x0a 0x00"
+is "actual baro and temperature rates: 25 and 0 Hz" "$(sim_rd 0x48 3)" \
+	"0x19 0x00 0x00"
 sleep 0.3
 is "EventStatus: the feature bit (no other sensor has a rate)" \
 	"$(sim_rd 0x35)" 0x40
@@ -61,17 +63,45 @@ baro=$(s16 "$1" "$2")
 temp=$(s16 "$5" "$6")
 ok "pressure raw $baro: 1000 hPa within 1 hPa (raw x 0.01 + 1013.25)" \
 	within "$baro" -1425 -1225
-ok "temperature raw $temp: 25 C within 0.5 C (raw x 0.01)" \
+ok "temperature raw $temp with the barometer's samples: 25 C within 0.5 C (raw x 0.01)" \
 	within "$temp" 2450 2550
 ok "stop" sim_wr 0x34 0x00
 nb=$(board baro_samples)
-nt=$(board temp_samples)
-ok "$nb baro and $nt temperature samples in about 0.3 s" \
-	sh -c "[ $nb -ge 5 ] && [ $nt -ge 2 ] && [ $nb -gt $nt ]"
+ok "$nb baro samples in about 0.3 s" [ "$nb" -ge 5 ]
+is "none of the temperature sensor's own" "$(board temp_samples)" 0
 set -- $(sim_rd 0x2c 2) $(sim_rd 0x30 2)
 is "BaroTIME: n x 32768 / 25 (1/32768 s)" $(($1 | $2 << 8)) \
 	$((nb * 32768 / 25 % 65536))
-is "TempTIME: n x 32768 / 10" $(($3 | $4 << 8)) $((nt * 32768 / 10 % 65536))
+is "TempTIME: the barometer sample's" $(($3 | $4 << 8)) $(($1 | $2 << 8))
+
+# TempRate on its own, the barometer off.
+ok "BaroRate 0, TempRate 10 Hz without the report bit" sim_wr 0x58 0x00 0x0a
+ok "run" sim_wr 0x34 0x01
+is "actual rates: temperature 10 Hz" "$(sim_rd 0x48 3)" "0x00 0x0a 0x00"
+sleep 0.3
+ok "stop" sim_wr 0x34 0x00
+nt=$(board temp_samples)
+ok "$nt temperature samples in about 0.3 s" [ "$nt" -ge 2 ]
+set -- $(sim_rd 0x2c 2) $(sim_rd 0x2e 4)
+is "BaroTIME unchanged" $(($1 | $2 << 8)) $((nb * 32768 / 25 % 65536))
+ok "temperature raw $(s16 $3 $4)" within "$(s16 $3 $4)" 2450 2550
+is "TempTIME: n x 32768 / 10" $(($5 | $6 << 8)) $((nt * 32768 / 10 % 65536))
+
+# Both: the temperature slot takes either's samples.
+ok "BaroRate 25 Hz with the report bit, TempRate 10 Hz without" \
+	sim_wr 0x58 0x99 0x0a
+ok "run" sim_wr 0x34 0x01
+is "actual baro and temperature rates: 25 and 10 Hz" "$(sim_rd 0x48 3)" \
+	"0x19 0x0a 0x00"
+sleep 0.3
+ok "stop" sim_wr 0x34 0x00
+nb2=$(board baro_samples)
+nt2=$(board temp_samples)
+ok "$((nb2 - nb)) baro and $((nt2 - nt)) temperature samples in about 0.3 s" \
+	sh -c "[ $((nb2 - nb)) -gt $((nt2 - nt)) ] && [ $((nt2 - nt)) -ge 2 ]"
+set -- $(sim_rd 0x2e 2)
+ok "temperature raw $(s16 $1 $2)" within "$(s16 $1 $2)" 2450 2550
+nb=$nb2
 sleep 0.2
 is "no samples while stopped" "$(board baro_samples)" "$nb"
 
@@ -124,6 +154,26 @@ ok "baro raw $(s16 $1 $2) at 0x2A" within "$(s16 $1 $2)" -1425 -1225
 ok "humidity raw $(s16 $3 $4) at 0x2C: 45 %" within "$(s16 $3 $4)" 4390 4610
 ok "temperature raw $(s16 $5 $6) at 0x2E" within "$(s16 $5 $6)" 2450 2550
 ok "one timestamp at 0x30" test $(($7 | $8 << 8)) -ne 0
+# The barometer alone fills the temperature, whichever slot it has.
+ok "power cycle: feature data 0" knob power_cycle 1
+ok "upload done" sim_wait_upload
+ok "BaroRate 20 Hz alone" sim_wr 0x58 0x94 0x00 0x00
+ok "run" sim_wr 0x34 0x01
+sleep 0.3
+set -- $(sim_rd 0x2a 8)
+ok "temperature raw $(s16 $5 $6) at 0x2E (slot 2)" within "$(s16 $5 $6)" 2450 2550
+is "humidity not: 0 at 0x2C" "$(s16 $3 $4)" 0
+ok "stop" sim_wr 0x34 0x00
+ok "feature_flags 1: a barometer without a temperature slot" \
+	knob feature_flags 1
+ok "power cycle" knob power_cycle 1
+ok "upload done" sim_wait_upload
+ok "BaroRate 20 Hz" sim_wr 0x58 0x94
+ok "run" sim_wr 0x34 0x01
+sleep 0.3
+set -- $(sim_rd 0x2a 8)
+ok "baro raw $(s16 $1 $2) at 0x2A" within "$(s16 $1 $2)" -1425 -1225
+is "0x2E..0x31 untouched" "$5 $6 $7 $8" "0x00 0x00 0x00 0x00"
 nok "feature_flags refuses custom sensors (0x08)" knob feature_flags 8
 ok "feature_flags 5" knob feature_flags 5
 ok "stop" sim_wr 0x34 0x00

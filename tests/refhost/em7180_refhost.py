@@ -10,7 +10,10 @@ transaction, a multi-byte value read as the Raspberry Pi library reads it
 the chip's pointer moving on between them), LoadParamByte0..3 written one
 by one, then ParamRequest, then AlgorithmControl, ParamAcknowledge polled
 alone. Polls are bounded (5 ms steps, 1 s like EM's host driver) where the
-libraries loop forever.
+libraries loop forever. The data are read as the USFS boards' examples read
+them: the linear acceleration where Greg Tomasch's utilities read it
+(0x3F..0x44), and on a barometer event Baro and Temp (0x2A, 0x2E) with only
+BaroRate set, as Kris Winer's, Greg Tomasch's and Simon D. Levy's code do.
 
 It prints what it saw as "key value" lines for the test to judge, and
 exits 1 with a message on stderr when the chip did not answer as the
@@ -30,6 +33,7 @@ ADDRESS = 0x28
 
 # Registers, reference §1
 QX, AX, GX, MX = 0x00, 0x1A, 0x22, 0x12
+BARO, TEMP = 0x2A, 0x2E                 # the USFS's feature slots
 QRATE_DIVISOR = 0x32
 ENABLE_EVENTS = 0x33
 HOST_CONTROL = 0x34
@@ -40,6 +44,7 @@ ALGORITHM_STATUS = 0x38
 FEATURE_FLAGS = 0x39
 PARAM_ACK = 0x3A
 SAVED_PARAM0 = 0x3B
+LIN_ACCEL = 0x3F            # GP8..GP13 on the USFS (GT's LIN_ACC_getADC)
 ACTUAL_MAG_RATE = 0x45
 ERROR_REGISTER = 0x50
 ALGORITHM_CONTROL = 0x54
@@ -194,6 +199,17 @@ class Host:
     def three_axis(self, reg):
         return struct.unpack("<3h", bytes(self.read(reg, 6)))
 
+    # The boards' examples (SL's Interrupt, KW's and GT's sketches): on
+    # each EventStatus with the barometer's bit (6), Baro and then Temp,
+    # each a signed 16-bit value; pressure in mbar = raw * 0.01 + 1013.25,
+    # temperature in C = raw * 0.01
+    def barometer_event(self):
+        self.poll("a barometer event", lambda: True
+                  if self.read1(EVENT_STATUS) & 0x40 else None)
+        p, = struct.unpack("<h", bytes(self.read(BARO, 2)))
+        t, = struct.unpack("<h", bytes(self.read(TEMP, 2)))
+        return p * 0.01 + 1013.25, t * 0.01
+
 
 def main():
     if len(sys.argv) != 2:
@@ -252,6 +268,17 @@ def main():
     a = h.three_axis(AX)
     put("accel_lsb", " ".join(str(v) for v in a))
     put("accel_g", f"{math.sqrt(sum(v * v for v in a)) * ACCEL_G_PER_LSB:.4f}")
+    lin = h.three_axis(LIN_ACCEL)
+    put("lin_accel_lsb", " ".join(str(v) for v in lin))
+    put("lin_accel_g",
+        f"{math.sqrt(sum(v * v for v in lin)) * ACCEL_G_PER_LSB:.4f}")
+
+    # The barometer, configured as the examples do (BaroRate only, no
+    # TempRate), on a board whose FeatureFlags have one
+    if h.read1(FEATURE_FLAGS) & 0x01:
+        pressure, temperature = h.barometer_event()
+        put("pressure_mbar", f"{pressure:.2f}")
+        put("temperature_c", f"{temperature:.2f}")
 
     h.passthrough_on()
     put("passthru_status_on", f"0x{h.read1(PASSTHRU_STATUS):02x}")

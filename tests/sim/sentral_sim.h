@@ -20,7 +20,7 @@
 #include "sim-usfs.h"
 
 #define SIM_I2C_ADDR		0x28
-/* RAMVersion at load, and what the client's emmicro,calibration-firmware names */
+/* RAMVersion at load */
 #define SIM_RAM_VERSION		0x0d17
 
 /* Register addresses, EM7180 register reference §1 */
@@ -44,6 +44,7 @@
 #define SIM_REG_PARAM_ACK	0x3a
 #define SIM_REG_SAVED_PARAM0	0x3b
 #define SIM_REG_SAVED_PARAM3	0x3e
+#define SIM_REG_LIN_ACCEL	0x3f	/* USFS: 0x3f..0x44, GP8..GP13 */
 #define SIM_REG_CAL_STATUS	0x43
 #define SIM_REG_CAL_FLAGS	0x44
 #define SIM_REG_ACTUAL_MAG	0x45
@@ -225,6 +226,8 @@ struct sentral_sim {
 	u32 drift_ms;			/* 0: the field never changes */
 	u8 mag_transient;
 	s16 accel_bias[3];
+	bool appnote_layout;	/* 0x43/0x44/0x4d as the application note */
+	u8 algo_status_or;	/* OR-ed into AlgorithmStatus reads */
 	u32 ack_latency_us;
 	bool ack_never;
 	u8 ack_end;		/* SIM_ACK_END_*: the acknowledge after a stop */

@@ -259,6 +259,30 @@ static int mag_transient_store(struct sentral_sim *sim, char *buf,
 	return ret;
 }
 
+static void appnote_layout_show(struct seq_file *m, struct sentral_sim *sim,
+				ktime_t now)
+{
+	seq_printf(m, "%d\n", sim->appnote_layout);
+}
+
+static int appnote_layout_store(struct sentral_sim *sim, char *buf,
+				ktime_t now)
+{
+	return kstrtobool(buf, &sim->appnote_layout);
+}
+
+static void algo_status_or_show(struct seq_file *m, struct sentral_sim *sim,
+				ktime_t now)
+{
+	seq_printf(m, "0x%02x\n", sim->algo_status_or);
+}
+
+static int algo_status_or_store(struct sentral_sim *sim, char *buf,
+				ktime_t now)
+{
+	return kstrtou8(buf, 0, &sim->algo_status_or);
+}
+
 static void accel_bias_show(struct seq_file *m, struct sentral_sim *sim,
 			    ktime_t now)
 {
@@ -713,6 +737,8 @@ static const struct sim_knob sim_knobs[] = {
 	{ "drift_ms", 0600, drift_show, drift_store },
 	{ "cal_updates", 0400, cal_updates_show, NULL },
 	{ "mag_transient", 0600, mag_transient_show, mag_transient_store },
+	{ "appnote_layout", 0600, appnote_layout_show, appnote_layout_store },
+	{ "algo_status_or", 0600, algo_status_or_show, algo_status_or_store },
 	{ "accel_bias", 0600, accel_bias_show, accel_bias_store },
 	{ "ack_latency_us", 0600, ack_latency_show, ack_latency_store },
 	{ "ack_never", 0600, ack_never_show, ack_never_store },

@@ -441,12 +441,11 @@ static void sim_chip_free(struct sentral_sim *sim)
 }
 
 /*
- * The firmware the chip loads at power-on reports calibration status, flags
- * and score where the application note says: the client says so, as a
- * board's devicetree would. The node is shared, counted by the driver core.
+ * The client's properties, as a board's devicetree gives them: the image
+ * to upload, if the parameter names one. The node is shared, counted by
+ * the driver core.
  */
 static struct property_entry sim_em7180_props[] = {
-	PROPERTY_ENTRY_U32("emmicro,calibration-firmware", SIM_RAM_VERSION),
 	{ },	/* firmware-name, if the parameter gives one */
 	{ }
 };
@@ -638,7 +637,7 @@ static int __init sim_init(void)
 	    mux_channels > SIM_MAX_CHANNELS)
 		return -EINVAL;
 	if (firmware_name)
-		sim_em7180_props[1] = PROPERTY_ENTRY_STRING("firmware-name",
+		sim_em7180_props[0] = PROPERTY_ENTRY_STRING("firmware-name",
 							    firmware_name);
 	ret = i2c_add_driver(&sim_mux_driver);
 	if (ret)

@@ -424,6 +424,11 @@ static s32 sim_noise(struct sentral_sim *sim)
 	return (s32)((sim->noise_state >> 16) % 5) - 2;
 }
 
+/*
+ * The accel reading and, as the USFS firmware gives it in GP8..GP13
+ * (0x3f..0x44, read by Greg Tomasch's utilities as linear acceleration),
+ * the reading minus gravity in the sensor frame, in the same LSB.
+ */
 static void sim_make_accel(struct sentral_sim *sim)
 {
 	s64 g[3];
@@ -432,14 +437,15 @@ static void sim_make_accel(struct sentral_sim *sim)
 	/* gravity as the device sees it; the hand's own acceleration is not modelled */
 	sim_motion_to_body(&sim->world, sim_gravity, g);
 	for (i = 0; i < 3; i++) {
-		s64 off;
+		s64 off, a;
 
 		/* offsets are float g in warm-start 27..29 (application note) */
 		if (sim_f32_to_scaled(sim->params[SIM_PARAM_ACCEL_OFFSET + i],
 				      SIM_MICRO, SIM_ACCEL_LSB_UG, &off))
 			off = 0;
-		sim_put_s16(sim, SIM_REG_AX + 2 * i,
-			    g[i] + sim->accel_bias[i] - off);
+		a = sim_clamp_s16(g[i] + sim->accel_bias[i] - off);
+		sim_put_s16(sim, SIM_REG_AX + 2 * i, a);
+		sim_put_s16(sim, SIM_REG_LIN_ACCEL + 2 * i, a - g[i]);
 	}
 }
 
@@ -859,15 +865,21 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 			sim->standby_power_loss = false;
 			sim_power_on(sim, now);
 		}
-		return v;
+		/* bit 5 unreliable sensor data, 0xc0 a glitch (§1) */
+		return v | sim->algo_status_or;
 	case SIM_REG_PARAM_ACK:
 		return sim->param_ack;
 	case SIM_REG_SAVED_PARAM0 ... SIM_REG_SAVED_PARAM3:
 		return sim->saved_param[reg - SIM_REG_SAVED_PARAM0];
-	case SIM_REG_CAL_STATUS:
-		/* seed register map: bits 1:0 CalStatus, 3:2 MagTransient */
-		return sim_cal_status(sim) | sim->mag_transient << 2;
-	case SIM_REG_CAL_FLAGS:
+	case SIM_REG_LIN_ACCEL ... SIM_REG_CAL_FLAGS:
+		/* a USFS: linear acceleration x, y, z (GP8..GP13) */
+		if (!sim->appnote_layout)
+			return sim->regs[reg];
+		if (reg == SIM_REG_CAL_STATUS)
+			/* application note: bits 1:0 CalStatus, 3:2 MagTransient */
+			return sim_cal_status(sim) | sim->mag_transient << 2;
+		if (reg != SIM_REG_CAL_FLAGS)
+			return 0;	/* the note defines none of 0x3f..0x42 */
 		v = sim->cal_flags;
 		if (!peek) {
 			sim->cal_flags = 0;	/* latched until read */
@@ -881,10 +893,11 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 		return sim_actual_rate(sim, SIM_REG_ACCEL_RATE);
 	case SIM_REG_ACTUAL_GYRO:
 		return sim_actual_rate(sim, SIM_REG_GYRO_RATE);
+	/* GP22..GP23: the application note's score; the USFS leaves them 0 */
 	case SIM_REG_CAL_SCORE_LSB:
-		return sim_cal_score_raw(sim) & 0xff;
+		return sim->appnote_layout ? sim_cal_score_raw(sim) & 0xff : 0;
 	case SIM_REG_CAL_SCORE_MSB:
-		return sim_cal_score_raw(sim) >> 8;
+		return sim->appnote_layout ? sim_cal_score_raw(sim) >> 8 : 0;
 	case SIM_REG_ROM_VERSION:
 		return sim->rom_version & 0xff;
 	case SIM_REG_ROM_VERSION + 1:

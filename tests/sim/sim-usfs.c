@@ -343,27 +343,49 @@ static s16 sim_feature_value(struct sentral_sim *sim, u8 flag, ktime_t now)
  * data1, ts1 (USFS: Baro 0x2a, BaroTIME 0x2c, Temp 0x2e, TempTIME 0x30);
  * three: data0, data1, data2, one timestamp.
  */
+static void sim_feature_put(struct sentral_sim *sim, unsigned int i, s16 val,
+			    u16 ts)
+{
+	struct sim_usfs *u = usfs(sim);
+	u8 data, time;
+
+	if (u->nfeat < 3) {
+		data = SIM_REG_FEATURE0 + 4 * i;
+		time = data + 2;
+	} else {
+		data = SIM_REG_FEATURE0 + 2 * i;
+		time = SIM_REG_FEATURE0 + 6;
+	}
+	sim_put_le16(val, &sim->regs[data]);
+	sim_put_le16(ts, &sim->regs[time]);
+}
+
 static void sim_feature_produce(struct sentral_sim *sim, unsigned int i,
 				ktime_t now)
 {
 	struct sim_usfs *u = usfs(sim);
 	struct sim_feature *f = &u->feat[i];
-	u8 data, ts;
+	unsigned int t;
 
-	if (u->nfeat < 3) {
-		data = SIM_REG_FEATURE0 + 4 * i;
-		ts = data + 2;
-	} else {
-		data = SIM_REG_FEATURE0 + 2 * i;
-		ts = SIM_REG_FEATURE0 + 6;
-	}
 	f->n++;
 	f->ts = f->ts_base + (u16)div_u64((u64)f->n * 32768, f->rate);
-	sim_put_le16(sim_feature_value(sim, f->flag, now), &sim->regs[data]);
-	sim_put_le16(f->ts, &sim->regs[ts]);
+	sim_feature_put(sim, i, sim_feature_value(sim, f->flag, now), f->ts);
 	f->produced++;
 	if (sim->regs[SIM_REG_FEATURE_RATE0 + i] & SIM_FEAT_REPORT)
 		sim_event(sim, SIM_EV_FEATURE);
+	if (f->flag != SIM_FEAT_BARO)
+		return;
+	/*
+	 * The MS5637 measures temperature for every pressure (its D2
+	 * conversion), and the USFS firmware fills the temperature slot with
+	 * it: KW's, GT's and SL's examples set only BaroRate and read Temp on
+	 * every barometer event.
+	 */
+	for (t = 0; t < u->nfeat; t++)
+		if (u->feat[t].flag == SIM_FEAT_TEMP)
+			sim_feature_put(sim, t,
+					sim_feature_value(sim, SIM_FEAT_TEMP, now),
+					f->ts);
 }
 
 static ktime_t sim_feature_due(struct sentral_sim *sim, struct sim_feature *f)
