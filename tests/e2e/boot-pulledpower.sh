@@ -10,7 +10,7 @@
 #      simulated motion and the watcher saves by itself while the stream
 #      runs; then the machine is killed (SIGKILL to the UML processes): no
 #      shutdown, no stop action, no sync;
-#   2. udev restores at probe: in_magn_calibration_auto_status is 3 without
+#   2. udev restores at probe: in_magn_calibration_auto_status is 4 (stable) without
 #      any motion and the chip's blob equals the saved payload; the
 #      application streams again.
 # The host script calls itself inside the machine with the boot's name.
@@ -51,7 +51,7 @@ if [ "${1:-}" = --inside ]; then
 	second)
 		like "restored at probe by udev" "$(dmesg)" \
 			"restored iio:device[0-9]+ calibration from $f"
-		is "in_magn_calibration_auto_status 3 without motion" "$(cal_status)" 3
+		is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_status)" 4
 		is "motion never set this boot" "$(cat "$SIM_DBG/motion")" 0
 		# Parameters 33..35 are the gyro bias, which the chip learns
 		# again within gbias_period_ms of standing still: boot 1 saved

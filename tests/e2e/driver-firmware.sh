@@ -1,30 +1,29 @@
 #!/bin/bash
 # SPDX-License-Identifier: GPL-2.0-only
 #
-# Calibration status, score and flags only on firmware known to report
-# them: the simulator's client names its RAM version (0x0d17) in
-# emmicro,calibration-firmware, as a board's devicetree would. Another RAM
-# version binds without the five calibration attributes, logs why once per
-# binding, never reads the general-purpose registers, and still streams and
-# transfers calibration_data; the module parameter calibration_firmware adds
-# it. sentral-warmstart says so and restores without waiting for a status.
+# The calibration state on every firmware, with nothing configured: the
+# simulator's default is a USFS board whose firmware keeps linear
+# acceleration in 0x3F-0x44 (tests/sim/README.md), where the driver reports
+# in_magn_calibration_auto_status from AlgorithmStatus alone and never the
+# application note's score and flags. With the note's layout
+# (appnote_layout=1) it finds them at probe by itself; firmware that stops
+# holding them (another image after a reset, or other data after all) makes
+# them read ENODATA, said once. No devicetree property, no module parameter.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
-. "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
+. "$SENTRAL_ROOT/tests/lib/em7180.sh"
 
 TMP=$(mktemp -d)
-CAL="in_magn_calibration_auto_status in_magn_calibration_score in_magn_transient in_anglvel_calibration_update in_magn_calibration_update"
-MSG='firmware RAM 0x0e01 is not known to report calibration status and score'
-MOD=$SENTRAL_MODROOT
+NOTE="in_magn_calibration_score in_anglvel_calibration_update in_magn_calibration_update"
 
 DEV=$(em7180_dir)
 ok "em7180 present" test -n "$DEV"
 CLIENT=$(basename "$(readlink -f "$DEV/..")")
 DRV=/sys/bus/i2c/drivers/em7180
 
-# cal_attrs: how many of the five calibration attributes $DEV has
-cal_attrs() {
+# note_attrs: how many of the application note's attributes $DEV has
+note_attrs() {
 	local a n=0
-	for a in $CAL; do
+	for a in $NOTE; do
 		[ -e "$DEV/$a" ] && n=$((n + 1))
 	done
 	echo $n
@@ -35,119 +34,113 @@ rebind() {
 		DEV=$(em7180_dir)
 }
 
-is "RAM 0x0d17, named by the client's property: all five calibration attributes" \
-	"$(cal_attrs)" 5
-is "nothing logged about the firmware" "$(dmesg | grep -c 'not known to report')" 0
+level() {
+	cat "$DEV/in_magn_calibration_auto_status"
+}
 
-knob ram_version 0x0e01
-ok "RAM 0x0e01: bind again" rebind
-is "ram_version reads 0x0e01" "$(cat "$DEV/ram_version")" 0x0e01
-is "none of the five calibration attributes" "$(cal_attrs)" 0
-is "said once at probe" "$(dmesg | grep -c "$MSG")" 1
-like "and how to add it" "$(dmesg | grep "$MSG")" \
-	'add it to emmicro,calibration-firmware or em7180_core.calibration_firmware'
-for a in product_id revision_id rom_version ram_version calibration_data \
-	in_accel_x_calibbias; do
-	ok "$a still there" test -e "$DEV/$a"
-done
+# level_is N: the level reads N (past the driver's 0.5 s cache)
+level_is() {
+	[ "$(level)" = "$1" ]
+}
 
-# A capture: 40-byte scans of every channel
+# --- A USFS board as it comes: the level, nothing else ------------------
+is "the simulator plays a USFS board" "$(cat "$SIM_DBG/appnote_layout")" 0
+ok "in_magn_calibration_auto_status exists" test -e "$DEV/in_magn_calibration_auto_status"
+is "none of the application note's attributes" "$(note_attrs)" 0
+nok "no in_magn_transient" test -e "$DEV/in_magn_transient"
+nok "no module parameter for it" test -e /sys/module/em7180_core/parameters/calibration_firmware
+like "the probe line says where the calibration comes from" \
+	"$(dmesg | grep "$CLIENT")" \
+	'firmware ROM 0x09e6 RAM 0x[0-9a-f]{4} from EEPROM, calibration from AlgorithmStatus'
+
+knob motion 0
+knob stats 0
+is "level 2 at power-on: calibrating" "$(level)" 2
+is "one bus transaction: SentralStatus and AlgorithmStatus" \
+	"$(dbg_get stats transactions)" 1
+is "of 2 bytes" "$(dbg_get stats bytes)" 3
+knob cal_duration_ms 2000
+knob pattern sphere
+ok "motion: level 4, stable" wait_for 10 level_is 4
+knob motion 0
+knob mag_transient 1
+ok "a magnetic transient: level 3" wait_for 2 level_is 3
+knob mag_transient 0
+knob algo_status_or 0x20
+ok "unreliable sensor data: level 1" wait_for 2 level_is 1
+knob algo_status_or 0xc0
+sleep 0.6
+nok "an AlgorithmStatus with undefined bits (a glitch) fails the read" level
+like "with EIO" "$(cat "$DEV/in_magn_calibration_auto_status" 2>&1)" \
+	'Input/output error'
+knob algo_status_or 0
+ok "and the next read is a state again" wait_for 2 level_is 4
+
+# Streaming, transfers and calibbias work as before
 ok "buffered capture: iio_readdev -b 16 -s 50" \
 	sh -c "iio_readdev -b 16 -s 50 em7180 >$TMP/cap.bin"
-is "50 scans of 40 bytes" "$(stat -c %s "$TMP/cap.bin")" 2000
-
-# calibration_data both ways, and no read of 0x44 on the way: a gyro bias
-# update latched before the transfer stays unread (the old driver's
-# transfer took the flags in with its acknowledge read)
+ok "it captured" test -s "$TMP/cap.bin"
 knob gbias_period_ms 50
 sleep 0.2
-before=$(dbg_get cal_updates gbias_read)
 ok "calibration_data read" dd if="$DEV/calibration_data" of="$TMP/a.bin" \
 	bs=140 count=1 status=none
-is "140 bytes" "$(stat -c %s "$TMP/a.bin")" 140
 ok "calibration_data write" dd if="$TMP/a.bin" of="$DEV/calibration_data" \
 	bs=140 status=none
 is "the chip holds them" "$(sim_ws_params)" "$(blob_words <"$TMP/a.bin")"
-is "0x44 not read by the transfers" "$(dbg_get cal_updates gbias_read)" "$before"
 knob gbias_period_ms 2000
-ok "calibbias write" sh -c "echo -47 >$DEV/in_accel_x_calibbias"
-is "calibbias read" "$(cat "$DEV/in_accel_x_calibbias")" -47
+ok "level 4 after the restore" wait_for 2 level_is 4
 
+# --- The application note's layout: found at probe ----------------------
+knob appnote_layout 1
 ok "bind again" rebind
-is "said once per binding: twice now" "$(dmesg | grep -c "$MSG")" 2
-
-# sentral-warmstart on that firmware
-out=$(sentral-warmstart status 2>&1)
-is "status exits 0" $? 0
-like "status: not reported by this firmware" "$out" \
-	'calibration status: +not reported by this firmware \(RAM 0x0e01\)'
-json=$(sentral-warmstart status --json)
-like "status --json: null status and score" "$json" \
-	'"calibration_status":null,"calibration_score":null,"calibration_score_raw":null,"mag_transient":null,"gyro_bias_update":null,"mag_calibration_update":null,'
-out=$(sentral-warmstart save 2>&1)
-is "save without --force refuses: exit 78" $? 78
-like "and says why" "$out" 'does not report the calibration status'
-out=$(timeout 20 sentral-warmstart watch --poll 1 2>&1)
-is "watch exits 78 at once" $? 78
-like "and says why" "$out" 'does not report the calibration status'
-out=$(sentral-warmstart save --force 2>&1)
-is "save --force saves: exit 0" $? 0
-key=$(sentral-warmstart key)
-ok "the file is written" test -f "$STATE/$key.ws"
+is "all three of the note's attributes" "$(note_attrs)" 3
+like "the probe line says so" "$(dmesg | grep "$CLIENT" | tail -n 1)" \
+	'calibration with score$'
+like "in_magn_calibration_score reads a percentage" \
+	"$(cat "$DEV/in_magn_calibration_score")" '^[0-9]+\.[0-9]{3}$'
+is "the level from AlgorithmStatus as before" "$(level)" 4
 knob stats 0
-out=$(timeout 10 sentral-warmstart restore 2>&1)
-is "restore exits 0" $? 0
-like "without waiting for a status" "$out" 'restored .* does not report'
-ok "restore wrote the blob" [ "$(dbg_get stats params_served)" -ge 35 ]
+sleep 0.6
+cat "$DEV"/in_magn_calibration_auto_status "$DEV/in_magn_calibration_score" \
+	"$DEV/in_magn_calibration_update" >/dev/null
+reads=$((1 + $(cat "$SIM_DBG/autoinc_stop")))
+is "all of them in $reads bus transaction(s)" "$(dbg_get stats transactions)" "$reads"
 
-# The module parameter adds 0x0e01 to the table
-ok "unload em7180_i2c and em7180_core" modprobe -d "$MOD" -r em7180_i2c em7180_core
+# Other data after all: the layout breaks, the note's attributes go ENODATA
+knob appnote_layout 0
+sleep 0.6
+nok "in_magn_calibration_score: no data once 0x43-0x4E hold other data" \
+	cat "$DEV/in_magn_calibration_score"
+like "ENODATA" "$(cat "$DEV/in_magn_calibration_score" 2>&1)" 'No data available'
+is "said once" "$(dmesg | grep -c "$CLIENT.*not the calibration score")" 1
+ok "the level still reads" level
+knob appnote_layout 1
+sleep 0.6
+nok "for good, while that firmware runs" cat "$DEV/in_magn_calibration_score"
 
-# A value that is no 16-bit RAM version, or more than 8 of them: the module
-# does not load with part of the list, and the log names the parameter
-for bad in 0x0e01,zz 0x10000 1,2,3,4,5,6,7,8,9; do
-	nok "calibration_firmware=$bad: the module does not load" \
-		modprobe -d "$MOD" em7180_core "calibration_firmware=$bad"
-	nok "  and is not there" test -d /sys/module/em7180_core
-	like "  the log names the parameter" "$(dmesg | tail -3)" \
-		"invalid for parameter .calibration_firmware"
-done
-ok "load em7180_core calibration_firmware=0x0e01,0x1234" \
-	modprobe -d "$MOD" em7180_core calibration_firmware=0x0e01,0x1234
-ok "load em7180_i2c" modprobe -d "$MOD" em7180_i2c
-ok "bound" wait_for 5 em7180_dir
-DEV=$(em7180_dir)
-is "the parameter reads back" \
-	"$(cat /sys/module/em7180_core/parameters/calibration_firmware)" "3585,4660"
-is "the five calibration attributes are back" "$(cal_attrs)" 5
-is "nothing more logged" "$(dmesg | grep -c "$MSG")" 2
-is "in_magn_calibration_auto_status reads" \
-	"$(cat "$DEV/in_magn_calibration_auto_status")" 0
-
-# The firmware changes under a bound driver (a reset reloads another): the
-# attributes stay, read ENODATA, and that is said once
+# Another firmware after a reset: looked at again
+ok "bind again" rebind
+is "the note's attributes again" "$(note_attrs)" 3
+knob appnote_layout 0
 knob ram_version 0x0f02
 knob chip_reset 1
 ok "recovered with RAM 0x0f02" wait_for 5 \
 	sh -c "[ \"\$(cat $DEV/ram_version)\" = 0x0f02 ]"
-nok "in_magn_calibration_score: no data" cat "$DEV/in_magn_calibration_score"
-like "ENODATA" "$(cat "$DEV/in_magn_calibration_score" 2>&1)" 'No data available'
-nok "in_magn_calibration_auto_status: no data" cat "$DEV/in_magn_calibration_auto_status"
+nok "its score: no data" cat "$DEV/in_magn_calibration_score"
 is "the change is logged once" \
-	"$(dmesg | grep -c 'firmware RAM 0x0f02 is not known to report')" 1
-out=$(sentral-warmstart status 2>&1)
-like "status: not reported (RAM 0x0f02)" "$out" \
-	'calibration status: +not reported by this firmware \(RAM 0x0f02\)'
+	"$(dmesg | grep -c 'firmware RAM 0x0f02: calibration score not reported')" 1
+knob appnote_layout 1
 knob ram_version 0x0e01
 knob chip_reset 1
-ok "recovered with RAM 0x0e01" wait_for 5 \
+ok "recovered with RAM 0x0e01, which has them" wait_for 5 \
 	sh -c "[ \"\$(cat $DEV/ram_version)\" = 0x0e01 ]"
-ok "the attributes read again" cat "$DEV/in_magn_calibration_score"
+ok "the score reads again" wait_for 2 cat "$DEV/in_magn_calibration_score"
+like "logged" "$(dmesg | grep 'firmware RAM 0x0e01')" 'score reported again'
 
 # Back as tests/uml/run left it
-knob ram_version 0x0d17
-modprobe -d "$MOD" -r em7180_i2c em7180_core
-ok "reload em7180_i2c" modprobe -d "$MOD" em7180_i2c
-ok "bound" wait_for 5 em7180_dir
+knob appnote_layout 0
+knob ram_version "$(printf '0x%04x' "$((0x0d17))")"
+ok "bind again" rebind
+is "the USFS board: none of the note's attributes" "$(note_attrs)" 0
 rm -rf "$TMP"
 done_testing

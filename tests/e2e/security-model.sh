@@ -1,5 +1,6 @@
 #!/bin/bash
 # SPDX-License-Identifier: GPL-2.0-only
+# uml-args: --sim-knobs appnote_layout=1
 #
 # The threat model of Documentation/iio/sentral.rst ("Security"), one check
 # per claim: who may read and write each attribute and device node, what an
@@ -33,7 +34,7 @@ f=$STATE/$key.ws
 
 # --- Attribute and node modes --------------------------------------------
 is "calibration_data is 0600 root" "$(perm "$DEV/calibration_data")" "600 root root"
-for a in in_magn_calibration_auto_status in_magn_calibration_score in_magn_transient \
+for a in in_magn_calibration_auto_status in_magn_calibration_score \
 	in_anglvel_calibration_update in_magn_calibration_update product_id revision_id \
 	rom_version ram_version; do
 	is "$a is 0444" "$(perm "$DEV/$a")" "444 root root"

@@ -1632,15 +1632,18 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 	}
 
 	ret = em7180_read_versions(data);
-	if (!ret)
-		ret = em7180_chip_configure(data, true);
+	if (ret)
+		return ret;
+	/* Other firmware may keep other things in 0x43-0x4E */
+	appnote = data->appnote;
+	if (*ram != data->ram_version)
+		data->appnote = false;
+	ret = em7180_chip_configure(data, true);
 	if (!ret)
 		ret = em7180_restore_calibration(data, *rom, *ram);
 	if (ret || *ram == data->ram_version)
 		return ret;
 
-	/* Other firmware may keep other things in 0x43-0x4E */
-	appnote = data->appnote;
 	ret = em7180_cal_detect(data);
 	if (!ret && data->appnote != appnote)
 		dev_info(data->dev, "firmware RAM 0x%04x: calibration %s\n",
