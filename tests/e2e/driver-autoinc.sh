@@ -42,10 +42,13 @@ ok "calibration_data read again" dd if="$DEV/calibration_data" \
 	of="$TMP/c.bin" bs=140 count=1 status=none
 is "it returns what was written" "$(blob_words <"$TMP/c.bin")" \
 	"$(blob_words <"$TMP/b.bin")"
-# Request, acknowledge, value per parameter; the echo, the calibration
-# registers and bit 7 to start; ParamRequest and bit 7 to end
-is "one register per transaction: 3 per parameter + 5" \
-	"$(dbg_get stats transactions)" $((3 * 35 + 5))
+# Request, acknowledge, value per parameter; the echo (and, where the
+# firmware keeps the application note's score, its registers) and bit 7 to
+# start; ParamRequest and bit 7 to end
+note=0
+[ -e "$DEV/in_magn_calibration_score" ] && note=1
+is "one register per transaction: 3 per parameter + $((4 + note))" \
+	"$(dbg_get stats transactions)" $((3 * 35 + 4 + note))
 
 # A new binding finds out at probe, where it reads the accelerometer
 # offsets, before any write (a write in one burst would wait 1 s for an
