@@ -309,37 +309,21 @@ static int iio_score(struct iio_be *ib, struct sw_cal_state *cs,
 	return SW_EXIT_OK;
 }
 
-/* Tries at a level and a score from one chip read. */
-#define CAL_STATE_TRIES 3
-
 /*
  * The level alone where the firmware has no score: one bus transaction.
  * With a score, the driver serves score and flags from one burst read of
- * the chip for 500 ms; a new read of the chip may fall between two of
- * them: the level read again last tells, and then they are all read again.
+ * the chip for 500 ms. They need not come from the level's read: save
+ * and calibrate judge a blob by the states read before and after it.
  */
 static int iio_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 			 struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
-	int again, ret, tries;
+	int ret;
 
 	memset(cs, 0, sizeof(*cs));
-	for (tries = 1;; tries++) {
-		ret = iio_level(ib, &cs->level, e);
-		ret = ret ? ret : iio_score(ib, cs, e);
-		if (ret || !cs->has_score)
-			return ret;
-		ret = iio_level(ib, &again, e);
-		if (ret)
-			return ret;
-		if (again == cs->level)
-			return SW_EXIT_OK;
-		if (tries == CAL_STATE_TRIES)
-			return sw_err_set(e, SW_EXIT_IO,
-					  "%s: in_magn_calibration_auto_status changed at each of %d reads",
-					  b->name, tries);
-	}
+	ret = iio_level(ib, &cs->level, e);
+	return ret ? ret : iio_score(ib, cs, e);
 }
 
 static int blob_err(struct iio_be *ib, const char *op, int err,
