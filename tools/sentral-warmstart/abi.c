@@ -10,29 +10,32 @@
 /*
  * Every attribute of the IIO device that the driver backend reads or writes,
  * but the optional ones: firmware_source (7.3; status says "unknown"
- * without it) and the feature sensors' channels (only on boards that have
- * them), which are not listed here.
+ * without it), the feature sensors' channels (only on boards that have
+ * them) and the score below, which are not listed here.
  */
 static const char *const required[] = {
 	"calibration_data",
 	"product_id", "revision_id", "rom_version", "ram_version",
+	/* the calibration level, 0..4, on every firmware */
+	"in_magn_calibration_auto_status",
 	"in_accel_x_raw", "in_accel_y_raw", "in_accel_z_raw",
 	"in_accel_x_calibbias", "in_accel_y_calibbias", "in_accel_z_calibbias",
 	"in_magn_x_raw", "in_magn_y_raw", "in_magn_z_raw", "in_magn_scale",
 };
 
 /*
- * The calibration state: all or none, as the driver makes them only for
- * firmware known to report it (none: sw_cal_state.reported is false).
+ * The application note's score and update flags: all or none, as the
+ * driver makes them only for firmware that has its layout.
  */
-static const char *const calibration[] = {
-	"in_magn_calibration_auto_status", "in_magn_calibration_score",
-	"in_magn_transient",
-	/* 1.1.0: flags kept until the next calibration_data transfer */
+static const char *const score[] = {
+	"in_magn_calibration_score",
 	"in_anglvel_calibration_update", "in_magn_calibration_update",
 };
 
-/* Attributes of earlier interfaces, gone since: a driver with one is older. */
+/*
+ * What earlier interfaces had and this one has not: a driver with one is
+ * older, whatever else it has.
+ */
 static const struct {
 	const char *attr;
 	const char *until;	/* the last interface that had it */
@@ -40,6 +43,16 @@ static const struct {
 	/* update counters, between 1.0.0 and 1.1.0 */
 	{ "in_magn_calibration_update_count", "the update counters" },
 	{ "in_anglvel_calibration_update_count", "the update counters" },
+	/*
+	 * Until the level: in_magn_calibration_auto_status was the
+	 * application note's status (0..3) beside this, both made only for
+	 * firmware listed by RAM version in the module parameter below or
+	 * the devicetree; without them, the parameter tells that driver.
+	 */
+	{ "in_magn_transient",
+	  "the application note's status 0-3 in in_magn_calibration_auto_status" },
+	{ "/sys/module/em7180_core/parameters/calibration_firmware",
+	  "the module parameter that listed firmware by RAM version" },
 };
 
 #define N(a) (sizeof(a) / sizeof((a)[0]))
@@ -76,29 +89,27 @@ static unsigned int count_missing(const char *const *list, unsigned int len,
 int sw_abi_check(const char *name, const char *version, sw_abi_has_fn has,
 		 void *ctx, struct sw_err *e)
 {
-	const char *missing, *cal_missing;
+	const char *missing, *score_missing;
 	unsigned int n = count_missing(required, N(required), has, ctx, &missing);
-	unsigned int cal_n = count_missing(calibration, N(calibration), has,
-					   ctx, &cal_missing);
+	unsigned int score_n = count_missing(score, N(score), has, ctx,
+					     &score_missing);
 	int old = older_attr(has, ctx);
 
-	/*
-	 * None of them is firmware that does not report the calibration;
-	 * some, or none on a driver of an earlier interface, is the driver.
-	 */
-	if (cal_n && (cal_n < N(calibration) || old >= 0)) {
+	/* None of them is firmware without the layout; some is the driver. */
+	if (score_n && score_n < N(score)) {
 		if (!missing)
-			missing = cal_missing;
-		n += cal_n;
+			missing = score_missing;
+		n += score_n;
 	}
-	if (!missing)
-		return SW_EXIT_OK;
 	if (old >= 0)
 		return sw_err_set(e, SW_EXIT_DRIVER,
-				  "%s: the em7180 driver is older than sentral-warmstart %s: it has %s (%s) and lacks %s%s; install the em7180 driver of release %s (em7180-dkms) and reload it or reboot",
+				  "%s: the em7180 driver is older than sentral-warmstart %s: it has %s (%s)%s%s%s; install the em7180 driver of release %s (em7180-dkms) and reload it or reboot",
 				  name, version, older[old].attr,
-				  older[old].until, missing,
+				  older[old].until, missing ? " and lacks " : "",
+				  missing ? missing : "",
 				  n > 1 ? " and more" : "", version);
+	if (!missing)
+		return SW_EXIT_OK;
 	return sw_err_set(e, SW_EXIT_DRIVER,
 			  "%s: the em7180 driver lacks %s%s, which sentral-warmstart %s uses, and has no attribute of an earlier interface: it is newer than this tool; install the sentral-warmstart of the driver's release",
 			  name, missing, n > 1 ? " and more" : "", version);

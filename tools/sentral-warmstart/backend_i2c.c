@@ -28,6 +28,7 @@
 #include <unistd.h>
 
 #include "backend.h"
+#include "level.h"
 
 #define REG_MAG		0x12
 #define REG_ACCEL	0x1a
@@ -44,10 +45,6 @@
 #define FEATURE_RATE_MASK 0x7f
 #define REG_PARAM_ACK	0x3a
 #define REG_SAVED_PARAM	0x3b
-#define REG_CAL_STATUS	0x43
-/* 0x43 status, 0x44 update flags ... 0x4D-0x4E score: one burst */
-#define CAL_BLOCK_LEN	12
-#define CAL_SCORE_OFF	(0x4d - REG_CAL_STATUS)
 #define REG_ALGO_CTRL	0x54
 #define ALGO_PARAM_PROC	0x80
 #define REG_LOAD_PARAM	0x60
@@ -71,6 +68,7 @@ struct i2c_be {
 	struct sw_backend b;
 	int fd;
 	unsigned int addr;
+	enum sw_layout layout;	/* of the firmware, as far as seen */
 	/* Acknowledge latency seen so far: the first poll waits about that. */
 	long ack_us;
 };
@@ -305,26 +303,27 @@ static int i2c_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
 }
 
 /*
- * Status, update flags and score in one burst: they describe one moment,
- * and 0x44 clears when read, so it is read exactly once.
+ * The level from AlgorithmStatus (0x38) as the driver computes it, and the
+ * application note's score and update flags (0x43..0x4E) where the
+ * driver's layout check passes (level.h), all in one burst: they describe
+ * one moment, and 0x44 clears when read on that firmware, so it is read
+ * exactly once.
  */
 static int i2c_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 			 struct sw_err *e)
 {
 	struct i2c_be *ib = to_i2c(b);
-	uint8_t r[CAL_BLOCK_LEN];
+	uint8_t r[SW_CAL_REGS_LEN];
 
 	/* Polling loops (calibrate) end here after a signal. */
 	if (sw_signal_pending())
 		return interrupted(ib, e);
-	if (i2c_bus_read(ib->fd, ib->addr, REG_CAL_STATUS, r, sizeof(r)) < 0)
-		return bus_err(ib, "reading", REG_CAL_STATUS, e);
-	cs->reported = true;
-	cs->status = r[0] & 3;
-	cs->mag_transient = (r[0] >> 2) & 3;
-	cs->mag_cal_update = r[1] & 1;
-	cs->gyro_bias_update = (r[1] >> 1) & 1;
-	cs->score_raw = sw_get_le16(r + CAL_SCORE_OFF);
+	if (i2c_bus_read(ib->fd, ib->addr, SW_ALGO_STATUS, r, sizeof(r)) < 0)
+		return bus_err(ib, "reading", SW_ALGO_STATUS, e);
+	if (!sw_cal_state_of_regs(r, &ib->layout, cs))
+		return sw_err_set(e, SW_EXIT_IO,
+				  "%s: AlgorithmStatus (register 0x%02x) reads 0x%02x, with reserved bits 6-7 set: a glitched read, not trusted",
+				  b->name, SW_ALGO_STATUS, r[0]);
 	return SW_EXIT_OK;
 }
 

@@ -68,6 +68,8 @@ static bool attr_exists(const char *attr, void *ctx)
 	struct iio_be *ib = ctx;
 	char path[PATH_MAX + 64];
 
+	if (attr[0] == '/')
+		return access(attr, F_OK) == 0;
 	snprintf(path, sizeof(path), "%s/%s", ib->dir, attr);
 	return access(path, F_OK) == 0;
 }
@@ -217,11 +219,52 @@ static int iio_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
 	return SW_EXIT_OK;
 }
 
-/* A flag attribute: "0" or "1". */
-static int attr_read_flag(struct iio_be *ib, const char *attr, int *val,
-			  struct sw_err *e)
+/* in_magn_calibration_auto_status: the level, on every firmware. */
+static int iio_level(struct iio_be *ib, int *level, struct sw_err *e)
 {
-	int ret = attr_read_int(ib, attr, val, e);
+	static const char attr[] = "in_magn_calibration_auto_status";
+	char path[PATH_MAX + 64], buf[64];
+
+	snprintf(path, sizeof(path), "%s/%s", ib->dir, attr);
+	if (read_text(path, buf, sizeof(buf)) < 0) {
+		int err = errno, ret = attr_err(ib, "reading", attr, err, e);
+
+		/* The driver's answer to reserved bits in AlgorithmStatus. */
+		if (err == EIO)
+			sw_err_append(e, " (AlgorithmStatus read with a reserved bit set: a glitched read, not trusted)");
+		return ret;
+	}
+	return parse_int(ib, attr, buf, level, e);
+}
+
+/*
+ * A score attribute the driver may not have: *absent when the device has
+ * no such attribute (firmware without the application note's layout at
+ * probe) or it reads ENODATA (the layout is gone since).
+ */
+static int iio_score_attr(struct iio_be *ib, const char *attr, char *buf,
+			  size_t len, bool *absent, struct sw_err *e)
+{
+	char path[PATH_MAX + 64];
+	int err;
+
+	snprintf(path, sizeof(path), "%s/%s", ib->dir, attr);
+	*absent = false;
+	if (read_text(path, buf, len) == 0)
+		return SW_EXIT_OK;
+	err = errno;
+	if (err == ENODATA || (err == ENOENT && access(ib->dir, F_OK) == 0)) {
+		*absent = true;
+		return SW_EXIT_OK;
+	}
+	return attr_err(ib, "reading", attr, err, e);
+}
+
+/* A flag attribute: "0" or "1". */
+static int parse_flag(struct iio_be *ib, const char *attr, const char *buf,
+		      int *val, struct sw_err *e)
+{
+	int ret = parse_int(ib, attr, buf, val, e);
 
 	if (!ret && *val != 0 && *val != 1)
 		return sw_err_set(e, SW_EXIT_IO, "%s: %s: unexpected value %d",
@@ -230,80 +273,57 @@ static int attr_read_flag(struct iio_be *ib, const char *attr, int *val,
 }
 
 /*
- * The driver makes the calibration attributes only for firmware known to
- * report the calibration, and they read ENODATA while the chip runs another
- * after a power loss: *yes false then.
+ * Score and update flags, where the driver has them (cs->has_score).
+ * They read ENODATA from the moment the driver finds the layout gone.
  */
-static int iio_cal_reported(struct iio_be *ib, bool *yes, struct sw_err *e)
+static int iio_score(struct iio_be *ib, struct sw_cal_state *cs,
+		     struct sw_err *e)
 {
-	static const char attr[] = "in_magn_calibration_auto_status";
-	char path[PATH_MAX + 64], buf[64];
-	int err;
+	static const char *const flags[2] = {
+		"in_anglvel_calibration_update", "in_magn_calibration_update",
+	};
+	int *flag[2] = { &cs->gyro_bias_update, &cs->mag_cal_update };
+	char score[64], buf[64];
+	bool absent;
+	int i, ret;
 
-	snprintf(path, sizeof(path), "%s/%s", ib->dir, attr);
-	*yes = true;
-	if (read_text(path, buf, sizeof(buf)) == 0)
-		return SW_EXIT_OK;
-	err = errno;
-	if (err == ENODATA || (err == ENOENT && access(ib->dir, F_OK) == 0)) {
-		*yes = false;
-		return SW_EXIT_OK;
+	cs->has_score = false;
+	ret = iio_score_attr(ib, "in_magn_calibration_score", score,
+			     sizeof(score), &absent, e);
+	for (i = 0; i < 2 && !ret && !absent; i++) {
+		ret = iio_score_attr(ib, flags[i], buf, sizeof(buf), &absent,
+				     e);
+		if (!ret && !absent)
+			ret = parse_flag(ib, flags[i], buf, flag[i], e);
 	}
-	return attr_err(ib, "reading", attr, err, e);
+	if (ret || absent) {
+		cs->gyro_bias_update = cs->mag_cal_update = 0;
+		return ret;
+	}
+	/* 3 decimals resolve the 100/32768 % steps: the raw value is exact. */
+	if (!sw_parse_score(score, &cs->score_raw))
+		return sw_err_set(e, SW_EXIT_IO,
+				  "%s: in_magn_calibration_score: unexpected value \"%s\" (not a percentage from -100 to 100)",
+				  ib->b.name, score);
+	cs->has_score = true;
+	return SW_EXIT_OK;
 }
 
-/* Tries at a status and a score from one chip read. */
-#define CAL_STATE_TRIES 3
-
 /*
- * The driver serves these five attributes from one burst read of the chip
- * (0x43..0x4E) for 500 ms: read back to back they cost one bus
- * transaction. A new burst may fall between two of them: the status read
- * again last tells, and then they are all read again.
+ * The level alone where the firmware has no score: one bus transaction.
+ * With a score, the driver serves score and flags from one burst read of
+ * the chip for 500 ms. They need not come from the level's read: save
+ * and calibrate judge a blob by the states read before and after it.
  */
 static int iio_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 			 struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
-	int again, ret, tries;
-	char buf[64];
+	int ret;
 
 	memset(cs, 0, sizeof(*cs));
-	ret = iio_cal_reported(ib, &cs->reported, e);
-	if (ret)
-		return ret;
-	if (!cs->reported) {
-		cs->score_raw = 0xffff;
-		return SW_EXIT_OK;
-	}
-	for (tries = 1;; tries++) {
-		ret = attr_read_int(ib, "in_magn_calibration_auto_status",
-				    &cs->status, e);
-		ret = ret ? ret : attr_read(ib, "in_magn_calibration_score",
-					    buf, sizeof(buf), e);
-		ret = ret ? ret : attr_read_int(ib, "in_magn_transient",
-						&cs->mag_transient, e);
-		ret = ret ? ret : attr_read_flag(ib, "in_anglvel_calibration_update",
-						 &cs->gyro_bias_update, e);
-		ret = ret ? ret : attr_read_flag(ib, "in_magn_calibration_update",
-						 &cs->mag_cal_update, e);
-		ret = ret ? ret : attr_read_int(ib, "in_magn_calibration_auto_status",
-						&again, e);
-		if (ret)
-			return ret;
-		if (again == cs->status)
-			break;
-		if (tries == CAL_STATE_TRIES)
-			return sw_err_set(e, SW_EXIT_IO,
-					  "%s: in_magn_calibration_auto_status changed at each of %d reads",
-					  b->name, tries);
-	}
-	/* 3 decimals resolve the 100/32768 % steps: the raw value is exact. */
-	if (!sw_parse_score(buf, &cs->score_raw))
-		return sw_err_set(e, SW_EXIT_IO,
-				  "%s: in_magn_calibration_score: unexpected value \"%s\" (not a percentage from -100 to 100)",
-				  b->name, buf);
-	return SW_EXIT_OK;
+	ret = iio_level(ib, &cs->level, e);
+	return ret ? ret : iio_score(ib, cs, e);
 }
 
 static int blob_err(struct iio_be *ib, const char *op, int err,

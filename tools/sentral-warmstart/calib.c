@@ -9,6 +9,7 @@
 
 #include "cmd.h"
 #include "coverage.h"
+#include "level.h"
 
 #define GBIAS_POLL_MS 50
 #define CAL_POLL_MS 250
@@ -18,6 +19,8 @@
 #define CAL_LINE_MS 5000
 /* Lines of the in-place terminal view (see draw_tty). */
 #define TTY_LINES (SW_COV_BANDS + 3)
+/* Looks in a row that may fail (a glitched read) before calibrate gives up. */
+#define CAL_GLITCHES 4
 
 struct cal_run {
 	struct sw_env *env;
@@ -26,6 +29,7 @@ struct cal_run {
 	struct sw_cov cov;
 	struct sw_cal_state cs, best;
 	bool have_best;
+	unsigned int glitches;	/* failed looks in a row */
 	uint64_t start, deadline;
 	bool drawn;		/* the terminal view is on screen */
 };
@@ -47,6 +51,34 @@ static const char *fit_name(enum sw_fit f)
 	       f == SW_FIT_PLANAR ? "planar" : "few";
 }
 
+/* A score as JSON: null when the firmware reports none. */
+static void json_score(FILE *out, const struct sw_cal_state *cs)
+{
+	if (cs->has_score)
+		fprintf(out, "%.3f", sw_score_pct(cs->score_raw));
+	else
+		fputs("null", out);
+}
+
+/* "level 4/4 (stable), score 2.747%, best 2.747%" or without a score. */
+static void state_text(const struct cal_run *r, char *buf, size_t len)
+{
+	int n = snprintf(buf, len, "level %d/4 (%s)", r->cs.level,
+			 sw_level_name(r->cs.level));
+
+	if (n < 0 || (size_t)n >= len || !r->cs.has_score)
+		return;
+	n += snprintf(buf + n, len - (size_t)n, ", score %.3f%%",
+		      sw_score_pct(r->cs.score_raw));
+	if ((size_t)n >= len)
+		return;
+	if (r->have_best)
+		snprintf(buf + n, len - (size_t)n, ", best %.3f%%",
+			 sw_score_pct(r->best.score_raw));
+	else
+		snprintf(buf + n, len - (size_t)n, ", best -");
+}
+
 static void json_progress(struct cal_run *r, const char *event, uint64_t now)
 {
 	enum sw_axis miss[SW_NAXES];
@@ -55,11 +87,13 @@ static void json_progress(struct cal_run *r, const char *event, uint64_t now)
 	const char *h;
 
 	sw_cov_hint(&r->cov, hint, sizeof(hint));
-	fprintf(r->out, "{\"event\":\"%s\",\"elapsed_ms\":%llu,\"status\":%d,\"score\":%.3f,\"best_score\":",
-		event, (unsigned long long)(now - r->start), r->cs.status,
-		sw_score_pct(r->cs.score_raw));
+	fprintf(r->out, "{\"event\":\"%s\",\"elapsed_ms\":%llu,\"level\":%d,\"level_name\":\"%s\",\"score\":",
+		event, (unsigned long long)(now - r->start), r->cs.level,
+		sw_level_name(r->cs.level));
+	json_score(r->out, &r->cs);
+	fputs(",\"best_score\":", r->out);
 	if (r->have_best)
-		fprintf(r->out, "%.3f", sw_score_pct(r->best.score_raw));
+		json_score(r->out, &r->best);
 	else
 		fputs("null", r->out);
 	fprintf(r->out, ",\"coverage\":%u,\"samples\":%u,\"fit\":\"%s\",\"regions\":\"",
@@ -85,7 +119,7 @@ static void json_progress(struct cal_run *r, const char *event, uint64_t now)
 static void draw_tty(struct cal_run *r, uint64_t now)
 {
 	int b, k, width = sw_cov_band_size(2);
-	char hint[256], best[32];
+	char hint[256], state[128];
 
 	if (r->drawn)
 		fprintf(r->out, "\033[%dA", TTY_LINES);
@@ -101,14 +135,8 @@ static void draw_tty(struct cal_run *r, uint64_t now)
 			fputc(r->cov.seen[first + k] ? '#' : '.', r->out);
 		fputs("\033[K\n", r->out);
 	}
-	if (r->have_best)
-		snprintf(best, sizeof(best), "%.3f%%",
-			 sw_score_pct(r->best.score_raw));
-	else
-		snprintf(best, sizeof(best), "-");
-	fprintf(r->out, "status %d/3  score %.3f%%  best %s  %u s left\033[K\n",
-		r->cs.status, sw_score_pct(r->cs.score_raw), best,
-		left_s(r, now));
+	state_text(r, state, sizeof(state));
+	fprintf(r->out, "%s, %u s left\033[K\n", state, left_s(r, now));
 	sw_cov_hint(&r->cov, hint, sizeof(hint));
 	fprintf(r->out, "hint: %s\033[K\n", hint);
 	fflush(r->out);
@@ -116,17 +144,11 @@ static void draw_tty(struct cal_run *r, uint64_t now)
 
 static void print_line(struct cal_run *r, uint64_t now)
 {
-	char hint[256], best[32];
+	char hint[256], state[128];
 
-	if (r->have_best)
-		snprintf(best, sizeof(best), "%.3f%%",
-			 sw_score_pct(r->best.score_raw));
-	else
-		snprintf(best, sizeof(best), "-");
+	state_text(r, state, sizeof(state));
 	sw_cov_hint(&r->cov, hint, sizeof(hint));
-	fprintf(r->out,
-		"calibrate: status %d/3, score %.3f%%, best %s, coverage %u%%, %u s left; %s\n",
-		r->cs.status, sw_score_pct(r->cs.score_raw), best,
+	fprintf(r->out, "calibrate: %s, coverage %u%%, %u s left; %s\n", state,
 		coverage_pct(r), left_s(r, now), hint);
 	fflush(r->out);
 }
@@ -136,7 +158,8 @@ static void print_line(struct cal_run *r, uint64_t now)
  * flag may be 1 from any time before: a read of the blob clears the
  * driver's (until then it stays 1, so the first look may be skipped
  * without losing an update), and over i2c-dev that first look at 0x44
- * clears it. A later look that reads 1 is an update made since.
+ * clears it. A later look that reads 1 is an update made since. Firmware
+ * without the application note's registers reports no update: no step 1.
  */
 static int wait_gyro_bias(struct sw_backend *b, struct cal_run *r,
 			  struct sw_err *e)
@@ -146,6 +169,9 @@ static int wait_gyro_bias(struct sw_backend *b, struct cal_run *r,
 	bool first = true;
 	int ret;
 
+	ret = b->ops->cal_state(b, &r->cs, e);
+	if (ret || !r->cs.has_score)
+		return ret;
 	sw_note(env, "Step 1/2: keep the device still while the gyro bias is learned...");
 	ret = b->ops->read_blob(b, blob, e);
 	if (ret)
@@ -154,10 +180,6 @@ static int wait_gyro_bias(struct sw_backend *b, struct cal_run *r,
 		ret = b->ops->cal_state(b, &r->cs, e);
 		if (ret)
 			return ret;
-		if (!r->cs.reported)
-			return sw_err_not_reported(b,
-						   "the calibration cannot be followed",
-						   e);
 		if (!first && r->cs.gyro_bias_update == 1)
 			break;
 		if (env->now_ms(env->clk) >= r->deadline)
@@ -170,40 +192,74 @@ static int wait_gyro_bias(struct sw_backend *b, struct cal_run *r,
 	return SW_EXIT_OK;
 }
 
-/* One look at the chip: keep a snapshot of the best calibration seen. */
+/*
+ * A look that failed the way a glitched read does (SW_EXIT_IO: the
+ * driver's EIO for a reserved bit of AlgorithmStatus, a bus error) is
+ * skipped, the next look decides, unless CAL_GLITCHES in a row failed.
+ */
+static int glitch(struct cal_run *r, int ret, const struct sw_err *ge,
+		  struct sw_err *e)
+{
+	if (ret != SW_EXIT_IO || ++r->glitches >= CAL_GLITCHES)
+		return sw_err_set(e, ret, "%s", ge->msg);
+	return SW_EXIT_OK;
+}
+
+/* Would a stable state cs be a better calibration than the best so far? */
+static bool better(const struct cal_run *r, const struct sw_cal_state *cs)
+{
+	return cs->level == SW_LEVEL_STABLE &&
+	       (!r->have_best ||
+		(cs->has_score && cs->score_raw < r->best.score_raw));
+}
+
+/*
+ * One look at the chip: keep a snapshot of the best calibration seen. A
+ * value out of range (a score below 0 %, a level above 4) would look
+ * better than any calibration: skipped, as a glitched read is.
+ */
 static int poll_chip(struct sw_backend *b, struct cal_run *r,
 		     uint8_t *best_blob, struct sw_err *e)
 {
+	uint8_t blob[SW_BLOB_SIZE];
 	struct sw_cal_state cs;
+	struct sw_err ge;
 	char why[128];
-	int ret = b->ops->cal_state(b, &cs, e);
+	int ret;
 
+	sw_err_clear(&ge);
+	ret = b->ops->cal_state(b, &cs, &ge);
 	if (ret)
-		return ret;
-	if (!cs.reported)
-		return sw_err_not_reported(b, "the calibration cannot be followed",
-					   e);
-	/*
-	 * A glitched read (a score below 0 %, a status out of range) would
-	 * look better than any calibration: skipped, the next look decides.
-	 */
+		return glitch(r, ret, &ge, e);
 	if (!sw_cal_state_check(&cs, why, sizeof(why)))
 		return SW_EXIT_OK;
 	r->cs = cs;
-	if (r->cs.status == 3 &&
-	    (!r->have_best || r->cs.score_raw < r->best.score_raw)) {
-		/*
-		 * The chip's calibration keeps moving; snapshot the
-		 * coefficients at the best score seen so the saved file is
-		 * that one, not whatever the end brings.
-		 */
-		ret = b->ops->read_blob(b, best_blob, e);
-		if (ret)
-			return ret;
-		r->best = r->cs;
-		r->have_best = true;
+	if (!better(r, &cs)) {
+		r->glitches = 0;
+		return SW_EXIT_OK;
 	}
+	/*
+	 * The chip's calibration keeps moving; snapshot the coefficients
+	 * at the best state seen (stable before and after the read), so
+	 * that the saved file is that one, not whatever the end brings.
+	 */
+	ret = sw_read_snapshot(b, &cs, blob, &ge);
+	if (ret)
+		return glitch(r, ret, &ge, e);
+	r->glitches = 0;
+	if (!better(r, &cs))
+		return SW_EXIT_OK;
+	memcpy(best_blob, blob, SW_BLOB_SIZE);
+	r->best = cs;
+	r->have_best = true;
 	return SW_EXIT_OK;
+}
+
+/* Done: a stable snapshot, and with a score, one at the target. */
+static bool reached(const struct cal_run *r)
+{
+	return r->have_best && (!r->best.has_score ||
+		sw_score_pct(r->best.score_raw) <= r->o->target_score);
 }
 
 int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
@@ -213,10 +269,10 @@ int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 	struct sw_env notes = *env;
 	uint8_t best_blob[SW_BLOB_SIZE];
 	uint64_t now, next_poll, last_line = 0;
-	int shown_status = -1, shown_best = -1, ret;
+	int shown_level = -1, shown_best = -1, ret;
 	unsigned int shown_cov = 0;
-	char hint[256], path[4096];
-	bool reached = false, saved;
+	char hint[256], path[4096], score[32] = "";
+	bool saved;
 	double ut[3];
 
 	memset(r, 0, sizeof(*r));
@@ -235,8 +291,12 @@ int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 	ret = wait_gyro_bias(b, r, e);
 	if (ret)
 		return ret;
-	sw_note(r->env, "Step 2/2: rotate the device slowly in a figure-8, covering every direction, pivoting about its centre (target score %.1f%%, up to %u s)...",
-		o->target_score, o->timeout_s);
+	if (r->cs.has_score)
+		sw_note(r->env, "Step 2/2: rotate the device slowly in a figure-8, covering every direction, pivoting about its centre (target score %.1f%%, up to %u s)...",
+			o->target_score, o->timeout_s);
+	else
+		sw_note(r->env, "Rotate the device slowly in a figure-8, covering every direction, pivoting about its centre, until the calibration is stable (level 4; this firmware reports no score; up to %u s)...",
+			o->timeout_s);
 
 	next_poll = env->now_ms(env->clk);
 	for (;;) {
@@ -254,7 +314,7 @@ int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 				json_progress(r, "progress", now);
 			} else if (env->tty) {
 				draw_tty(r, now);
-			} else if (r->cs.status != shown_status ||
+			} else if (r->cs.level != shown_level ||
 				   (r->have_best &&
 				    r->best.score_raw != shown_best) ||
 				   coverage_pct(r) >= shown_cov + 10 ||
@@ -262,16 +322,11 @@ int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 				/* Plain lines only when there is news. */
 				print_line(r, now);
 				last_line = now;
-				shown_status = r->cs.status;
+				shown_level = r->cs.level;
 				shown_best = r->best.score_raw;
 				shown_cov = coverage_pct(r) / 10 * 10;
 			}
-			if (r->have_best &&
-			    sw_score_pct(r->best.score_raw) <= o->target_score) {
-				reached = true;
-				break;
-			}
-			if (now >= r->deadline)
+			if (reached(r) || now >= r->deadline)
 				break;
 		}
 		env->sleep_ms(env->clk, MAG_POLL_MS);
@@ -279,15 +334,19 @@ int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 
 	sw_cov_hint(&r->cov, hint, sizeof(hint));
 	if (o->json)
-		json_progress(r, reached ? "complete" : "timeout", now);
+		json_progress(r, reached(r) ? "complete" : "timeout", now);
 	if (!r->have_best)
 		return sw_err_set(e, SW_EXIT_CAL,
-				  "calibration did not complete within %u s (status %d of 3, %u%% of the sphere covered; %s); nothing saved",
-				  o->timeout_s, r->cs.status, coverage_pct(r),
+				  "calibration did not become stable within %u s (level %d of 4, %s; %u%% of the sphere covered; %s); nothing saved",
+				  o->timeout_s, r->cs.level,
+				  sw_level_name(r->cs.level), coverage_pct(r),
 				  hint);
-	if (reached)
-		sw_note(r->env, "Calibration complete: score %.3f%%, %u%% of the sphere covered.",
-			sw_score_pct(r->best.score_raw), coverage_pct(r));
+	if (r->best.has_score)
+		snprintf(score, sizeof(score), "score %.3f%%, ",
+			 sw_score_pct(r->best.score_raw));
+	if (reached(r))
+		sw_note(r->env, "Calibration stable: %s%u%% of the sphere covered.",
+			score, coverage_pct(r));
 	else
 		sw_note(r->env, "Timed out after %u s; keeping the best score reached, %.3f%% (target %.1f%%); %u%% of the sphere covered; %s.",
 			o->timeout_s, sw_score_pct(r->best.score_raw),
@@ -295,9 +354,10 @@ int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 	ret = sw_save_snapshot(b, o, r->env, &r->best, best_blob, &saved, e);
 	if (o->json) {
 		sw_file_path(o, b, path, sizeof(path));
-		fprintf(r->out, "{\"event\":\"%s\",\"status\":%d,\"score\":%.3f,\"file\":",
-			saved ? "saved" : "not_saved", r->best.status,
-			sw_score_pct(r->best.score_raw));
+		fprintf(r->out, "{\"event\":\"%s\",\"level\":%d,\"score\":",
+			saved ? "saved" : "not_saved", r->best.level);
+		json_score(r->out, &r->best);
+		fputs(",\"file\":", r->out);
 		sw_json_str(r->out, path);
 		fputs("}\n", r->out);
 		fflush(r->out);

@@ -15,10 +15,11 @@
 
 #include "board.h"
 #include "cmd.h"
+#include "level.h"
 #include "policy.h"
 #include "wsfile.h"
 
-/* How long restore waits for calibration_status to become 3. */
+/* How long restore waits for the level of a stable file (3 or 4). */
 #define RESTORE_SETTLE_MS 2000
 #define RESTORE_POLL_MS 20
 
@@ -270,9 +271,10 @@ static bool offsets_differ(const int chip[3], bool have_old,
 /*
  * The policy's answer for a calibration state, against the file at path
  * it would replace. The chip's accel offsets come from blob, or when it is
- * NULL from the driver's copy (no transfer). chip receives the chip's
- * identity, old the file (when *what is SW_SAVE_OFFSETS), oldwhy why an
- * existing file is unusable ("" when it is fine or missing).
+ * NULL from the driver's copy (no transfer); without blob the magnetometer
+ * coefficients are not compared. chip receives the chip's identity, old
+ * the file (when *what is SW_SAVE_OFFSETS), oldwhy why an existing file is
+ * unusable ("" when it is fine or missing).
  */
 static int policy_for(struct sw_backend *b, const struct sw_opts *o,
 		      const struct sw_cal_state *cs, const uint8_t *blob,
@@ -282,6 +284,7 @@ static int policy_for(struct sw_backend *b, const struct sw_opts *o,
 		      struct sw_err *e)
 {
 	struct sw_policy_in pin = { 0 };
+	char old_desc[96] = "";
 	struct sw_err lerr;
 	int ret, lsb[3];
 
@@ -296,9 +299,14 @@ static int policy_for(struct sw_backend *b, const struct sw_opts *o,
 	if (ret && ret != SW_EXIT_STATEDIR)
 		return sw_err_set(e, ret, "%s", lerr.msg);
 
+	pin.mag_moved = -1;
 	if (blob) {
 		blob_offsets(blob, lsb);
 		pin.offsets_differ = offsets_differ(lsb, pin.have_old, old);
+		if (pin.have_old)
+			pin.mag_moved = sw_params_moved(blob, old->payload,
+							SW_PARAM_MAG_FIRST,
+							SW_PARAM_MAG_LAST);
 	} else {
 		sw_err_clear(&lerr);
 		ret = b->ops->accel_offset_get(b, lsb, &lerr);
@@ -308,11 +316,17 @@ static int policy_for(struct sw_backend *b, const struct sw_opts *o,
 		pin.offsets_differ = !ret &&
 				     offsets_differ(lsb, pin.have_old, old);
 	}
-	pin.status = cs->status;
+	if (pin.have_old) {
+		sw_file_describe(old, old_desc, sizeof(old_desc));
+		pin.old_level = sw_file_level(old);
+		pin.old_has_score = old->judgement == SW_JUDGED_SCORE;
+		pin.old_score_raw = old->score_raw;
+	}
+	pin.old_desc = old_desc;
+	pin.level = cs->level;
+	pin.has_score = cs->has_score;
 	pin.score_raw = cs->score_raw;
 	pin.max_score = o->max_score;
-	pin.old_status = old->cal_status;
-	pin.old_score_raw = old->score_raw;
 	pin.force = o->force;
 	pin.improve_only = o->improve_only;
 	pin.margin = o->margin;
@@ -321,8 +335,8 @@ static int policy_for(struct sw_backend *b, const struct sw_opts *o,
 }
 
 int sw_save_wanted(struct sw_backend *b, const struct sw_opts *o,
-		   const struct sw_cal_state *cs, bool *yes, char *why,
-		   size_t len, struct sw_err *e)
+		   const struct sw_cal_state *cs, const uint8_t *blob,
+		   bool *yes, char *why, size_t len, struct sw_err *e)
 {
 	enum sw_save_what what = SW_SAVE_NOTHING;
 	struct sw_chip_info chip;
@@ -331,7 +345,7 @@ int sw_save_wanted(struct sw_backend *b, const struct sw_opts *o,
 	int ret;
 
 	sw_file_path(o, b, path, sizeof(path));
-	ret = policy_for(b, o, cs, NULL, &chip, path, &old, &what, why, len,
+	ret = policy_for(b, o, cs, blob, &chip, path, &old, &what, why, len,
 			 oldwhy, sizeof(oldwhy), e);
 	*yes = !ret && what != SW_SAVE_NOTHING;
 	return ret;
@@ -372,8 +386,11 @@ static void new_file(enum sw_save_what what, const struct sw_cal_state *cs,
 {
 	int k;
 
+	nf->version = SW_FILE_VERSION;
 	if (what == SW_SAVE_OFFSETS) {
-		nf->cal_status = old->cal_status;
+		/* A version 1 file's header in version 2's terms. */
+		nf->state = sw_file_level(old);
+		nf->judgement = old->judgement;
 		nf->score_raw = old->score_raw;
 		memcpy(nf->payload, old->payload, SW_BLOB_SIZE);
 		for (k = 0; k < 3; k++)
@@ -382,8 +399,9 @@ static void new_file(enum sw_save_what what, const struct sw_cal_state *cs,
 							SW_PARAM_ACCEL_X + k));
 		return;
 	}
-	nf->cal_status = cs->status;
-	nf->score_raw = cs->score_raw;
+	nf->state = cs->level;
+	nf->judgement = cs->has_score ? SW_JUDGED_SCORE : SW_JUDGED_STABLE;
+	nf->score_raw = cs->has_score ? cs->score_raw : 0;
 	memcpy(nf->payload, blob, SW_BLOB_SIZE);
 }
 
@@ -460,16 +478,6 @@ int sw_save_snapshot(struct sw_backend *b, const struct sw_opts *o,
 	return ret;
 }
 
-/*
- * What import-board records where the board's block has nothing: no
- * calibration status or score were saved with it. Status 0 and the worst
- * score (as for a firmware that does not report them): restore does not
- * wait for status 3, and any calibration the chip completes later is
- * better by the save policy, so save and watch replace the import.
- */
-#define IMPORT_STATUS 0
-#define IMPORT_SCORE_RAW 0xffff
-
 /* Under the writers' lock: the import policy's look at the file, the write. */
 static int import_locked(struct sw_backend *b, const struct sw_opts *o,
 			 struct sw_env *env, const struct sw_board_cal *cal,
@@ -477,7 +485,7 @@ static int import_locked(struct sw_backend *b, const struct sw_opts *o,
 {
 	struct sw_policy_in pin = { 0 };
 	uint8_t out[SW_FILE_SIZE];
-	char why[512], oldwhy[256];
+	char why[512], oldwhy[256], old_desc[96] = "";
 	struct sw_file nf, old;
 	struct sw_err lerr;
 	int ret;
@@ -493,8 +501,9 @@ static int import_locked(struct sw_backend *b, const struct sw_opts *o,
 	/* A missing state directory is created by the write. */
 	if (ret && ret != SW_EXIT_STATEDIR)
 		return sw_err_set(e, ret, "%s", lerr.msg);
-	pin.old_status = old.cal_status;
-	pin.old_score_raw = old.score_raw;
+	if (pin.have_old)
+		sw_file_describe(&old, old_desc, sizeof(old_desc));
+	pin.old_desc = old_desc;
 	pin.force = o->force;
 	if (!sw_policy_import(&pin, why, sizeof(why))) {
 		sw_note(env, "not importing the board's calibration for %s to %s: %s",
@@ -503,8 +512,13 @@ static int import_locked(struct sw_backend *b, const struct sw_opts *o,
 	}
 	if (oldwhy[0])
 		sw_note(env, "replacing unusable %s: %s", path, oldwhy);
-	nf.cal_status = IMPORT_STATUS;
-	nf.score_raw = IMPORT_SCORE_RAW;
+	/*
+	 * The block records no level or score: judgement none. Restore does
+	 * not wait for a level, and save, watch and calibrate replace it
+	 * with any stable calibration (by either rule: it is not stable).
+	 */
+	nf.version = SW_FILE_VERSION;
+	nf.judgement = SW_JUDGED_NONE;
 	nf.saved_at = env->wall_s(env->clk);
 	memcpy(nf.payload, cal->blob, SW_BLOB_SIZE);
 	sw_file_encode(&nf, out);
@@ -581,42 +595,25 @@ int sw_cmd_import_board(struct sw_backend *b, const struct sw_opts *o,
 	return ret;
 }
 
-/* The RAM version for a message: "0x0d17", or "unknown". */
-static void ram_str(struct sw_backend *b, char *buf, size_t len)
+/* The worse of two states: the lower level, or at one level the higher score. */
+static const struct sw_cal_state *worse(const struct sw_cal_state *a,
+					const struct sw_cal_state *b)
 {
-	struct sw_chip_info ci;
-	struct sw_err ie;
-
-	sw_err_clear(&ie);
-	if (b->ops->chip_info(b, &ci, &ie) == SW_EXIT_OK)
-		snprintf(buf, len, "0x%04x", ci.ram_version);
-	else
-		snprintf(buf, len, "unknown");
+	if (b->level != a->level)
+		return b->level < a->level ? b : a;
+	if (a->has_score != b->has_score)
+		return a->has_score ? b : a;
+	return b->score_raw > a->score_raw ? b : a;
 }
 
-int sw_err_not_reported(struct sw_backend *b, const char *what,
-			struct sw_err *e)
-{
-	char ram[16];
-
-	ram_str(b, ram, sizeof(ram));
-	return sw_err_set(e, SW_EXIT_DRIVER,
-			  "%s: the em7180 driver does not report the calibration status and score of this firmware (RAM %s): %s; if the firmware does report them (in registers 0x43, 0x44 and 0x4D-0x4E), name its RAM version in the device's emmicro,calibration-firmware property or em7180_core.calibration_firmware",
-			  b->name, ram, what);
-}
-
-int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
-		struct sw_env *env, bool *saved, struct sw_err *e)
+int sw_read_snapshot(struct sw_backend *b, struct sw_cal_state *cs,
+		     uint8_t *blob, struct sw_err *e)
 {
 	struct sw_cal_state before, after;
-	uint8_t blob[SW_BLOB_SIZE];
 	char why[160];
 	int i, ret;
 
 	ret = b->ops->cal_state(b, &before, e);
-	if (!ret && !before.reported && !o->force)
-		return sw_err_not_reported(b, "not saving (save --force saves anyway)",
-					   e);
 	ret = ret ? ret : b->ops->read_blob(b, blob, e);
 	ret = ret ? ret : b->ops->cal_state(b, &after, e);
 	if (ret)
@@ -628,13 +625,24 @@ int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
 					  b->name, why);
 	/*
 	 * The blob must be judged by the state it was taken in: if the
-	 * calibration changed under the read, judge by the worse of the two.
+	 * calibration changed under the read, judge by the worse of the
+	 * two; stable means stable before and after.
 	 */
-	if (after.status < before.status ||
-	    (after.status == before.status &&
-	     after.score_raw > before.score_raw))
-		before = after;
-	return sw_save_snapshot(b, o, env, &before, blob, saved, e);
+	*cs = *worse(&before, &after);
+	return SW_EXIT_OK;
+}
+
+int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
+		struct sw_env *env, bool *saved, struct sw_err *e)
+{
+	struct sw_cal_state cs;
+	uint8_t blob[SW_BLOB_SIZE];
+	int ret;
+
+	if (saved)
+		*saved = false;
+	ret = sw_read_snapshot(b, &cs, blob, e);
+	return ret ? ret : sw_save_snapshot(b, o, env, &cs, blob, saved, e);
 }
 
 int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
@@ -690,7 +698,7 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 	struct sw_cal_state cs;
 	enum sw_file_check c;
 	struct sw_err rerr;
-	char path[4096], detail[160], aside[4400];
+	char path[4096], detail[160], aside[4400], saved[96], now[32] = "";
 	struct sw_file f;
 	uint64_t start;
 	size_t len;
@@ -738,31 +746,36 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 
 	/*
 	 * The chip needs a moment to take the coefficients in. A file saved
-	 * for its accel offsets before the magnetic calibration was complete
-	 * cannot bring status 3.
+	 * stable brings CalibStable back at once: level 3 counts too (a
+	 * magnetic transient now says nothing about the coefficients). A
+	 * file saved for its accel offsets before the calibration was
+	 * stable, or imported, cannot bring it.
 	 */
+	sw_file_describe(&f, saved, sizeof(saved));
 	start = env->now_ms(env->clk);
 	for (;;) {
 		ret = b->ops->cal_state(b, &cs, e);
 		if (ret)
 			return ret;
-		if (!cs.reported) {
-			sw_note(env, "restored %s calibration from %s (saved with status %d, %.3f%%); the driver does not report the calibration status of this firmware (RAM 0x%04x): not waiting for it",
-				b->name, path, f.cal_status,
-				sw_score_pct(f.score_raw), chip.ram_version);
-			return SW_EXIT_OK;
-		}
-		if (cs.status == 3 || f.cal_status != 3)
+		if (!sw_cal_state_check(&cs, detail, sizeof(detail)))
+			return sw_err_set(e, SW_EXIT_IO,
+					  "%s: wrote %s, then read from the chip: %s",
+					  b->name, path, detail);
+		if (cs.level >= SW_LEVEL_TRANSIENT ||
+		    sw_file_level(&f) != SW_LEVEL_STABLE)
 			break;
 		if (env->now_ms(env->clk) - start >= RESTORE_SETTLE_MS)
 			return sw_err_set(e, SW_EXIT_CAL,
-					  "%s: wrote %s but calibration_status is %d, not 3",
-					  b->name, path, cs.status);
+					  "%s: wrote %s (%s) but the calibration level is %d (%s), not 4 (stable)",
+					  b->name, path, saved, cs.level,
+					  sw_level_name(cs.level));
 		env->sleep_ms(env->clk, RESTORE_POLL_MS);
 	}
-	sw_note(env, "restored %s calibration from %s: status %d, score %.3f%% (saved with status %d, %.3f%%)",
-		b->name, path, cs.status, sw_score_pct(cs.score_raw),
-		f.cal_status, sw_score_pct(f.score_raw));
+	if (cs.has_score)
+		snprintf(now, sizeof(now), ", score %.3f%%",
+			 sw_score_pct(cs.score_raw));
+	sw_note(env, "restored %s calibration from %s: level %d (%s)%s (saved: %s)",
+		b->name, path, cs.level, sw_level_name(cs.level), now, saved);
 	return SW_EXIT_OK;
 }
 
@@ -860,30 +873,168 @@ static void status_hub_json(FILE *out, const struct sw_hub_info *hi)
 	fprintf(out, "]");
 }
 
-int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
-		  struct sw_env *env, struct sw_err *e)
+/* Does the chip hold the saved calibration? (status's "restored") */
+enum restored {
+	RESTORED_UNKNOWN,	/* no usable file, or the blob could not be read */
+	RESTORED_NO,
+	RESTORED_YES,
+};
+
+/*
+ * Compare the chip's parameters 18..23 and 27..29 with the file's, within
+ * the tolerance: one read of the blob. what says why, for the text.
+ */
+static enum restored status_restored(struct sw_backend *b,
+				     const struct sw_file *f, char *what,
+				     size_t len)
 {
+	uint8_t blob[SW_BLOB_SIZE];
+	struct sw_err re;
+	int n;
+
+	sw_err_clear(&re);
+	if (b->ops->read_blob(b, blob, &re)) {
+		snprintf(what, len, "unknown (%s)", re.msg);
+		return RESTORED_UNKNOWN;
+	}
+	n = sw_blob_restored(blob, f->payload);
+	if (!n) {
+		snprintf(what, len,
+			 "yes: the chip holds the saved calibration (parameters %d-%d and %d-%d within %.1f %%)",
+			 SW_PARAM_MAG_FIRST, SW_PARAM_MAG_LAST,
+			 SW_PARAM_ACCEL_X, SW_PARAM_ACCEL_X + 2,
+			 SW_PARAM_TOLERANCE * 100);
+		return RESTORED_YES;
+	}
+	snprintf(what, len,
+		 "no: parameter %d (%s) is %.7g on the chip, %.7g in the file",
+		 n, sw_param_name(n), (double)sw_blob_param(blob, n),
+		 (double)sw_blob_param(f->payload, n));
+	return RESTORED_NO;
+}
+
+/* What status found, for its text and JSON. */
+struct status {
 	struct sw_chip_info chip;
-	struct sw_cal_state cs;
+	bool have_chip;
+	struct sw_err chip_err;
 	struct sw_hub_info hub;
-	struct sw_err cerr, ferr, herr;
+	bool have_hub;
+	struct sw_err hub_err;
+	struct sw_cal_state cs;
+	char path[4096];
 	struct sw_file f;
-	char path[4096], old[4096], why[4400], when[40];
-	bool have_chip, have_file, have_hub;
-	FILE *out = env->out;
+	bool have_file;
+	char file_why[4400];	/* !have_file: why */
+	enum restored restored;
+	char restored_what[640];
+};
+
+static void status_json(FILE *out, const struct sw_backend *b,
+			const struct status *st)
+{
+	const struct sw_cal_state *cs = &st->cs;
+	const struct sw_file *f = &st->f;
+	static const char *const restored[] = {
+		[RESTORED_UNKNOWN] = "null",
+		[RESTORED_NO] = "false",
+		[RESTORED_YES] = "true",
+	};
+
+	fprintf(out, "{\"device\":");
+	sw_json_str(out, b->name);
+	fprintf(out, ",\"backend\":\"%s\",\"key\":", b->kind);
+	sw_json_str(out, b->key);
+	if (st->have_chip)
+		fprintf(out, ",\"product_id\":%u,\"revision_id\":%u,\"rom_version\":%u,\"ram_version\":%u",
+			st->chip.product_id, st->chip.revision_id,
+			st->chip.rom_version, st->chip.ram_version);
+	status_hub_json(out, st->have_hub ? &st->hub : NULL);
+	fprintf(out, ",\"level\":%d,\"level_name\":\"%s\"", cs->level,
+		sw_level_name(cs->level));
+	if (cs->has_score)
+		fprintf(out, ",\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"gyro_bias_update\":%d,\"mag_calibration_update\":%d",
+			sw_score_pct(cs->score_raw), cs->score_raw,
+			cs->gyro_bias_update, cs->mag_cal_update);
+	else
+		fprintf(out, ",\"calibration_score\":null,\"calibration_score_raw\":null,\"gyro_bias_update\":null,\"mag_calibration_update\":null");
+	fprintf(out, ",\"file\":");
+	sw_json_str(out, st->path);
+	if (!st->have_file) {
+		fprintf(out, ",\"saved\":null,\"saved_problem\":");
+		sw_json_str(out, st->file_why);
+		fprintf(out, ",\"judgement\":null,\"restored\":null}\n");
+		return;
+	}
+	fprintf(out, ",\"saved\":{\"version\":%d,\"level\":", f->version);
+	if (f->judgement == SW_JUDGED_NONE)
+		fprintf(out, "null,\"level_name\":null");
+	else
+		fprintf(out, "%d,\"level_name\":\"%s\"", sw_file_level(f),
+			sw_level_name(sw_file_level(f)));
+	if (f->judgement == SW_JUDGED_SCORE)
+		fprintf(out, ",\"calibration_score\":%.3f,\"calibration_score_raw\":%u",
+			sw_score_pct(f->score_raw), f->score_raw);
+	else
+		fprintf(out, ",\"calibration_score\":null,\"calibration_score_raw\":null");
+	fprintf(out, ",\"saved_at\":%llu},\"judgement\":\"%s\",\"restored\":%s}\n",
+		(unsigned long long)f->saved_at,
+		sw_judgement_name(f->judgement), restored[st->restored]);
+}
+
+static void status_text(FILE *out, const struct sw_backend *b,
+			const struct status *st)
+{
+	const struct sw_cal_state *cs = &st->cs;
+	char desc[96], when[40];
+
+	fprintf(out, "device:              %s (%s backend)\n", b->name, b->kind);
+	fprintf(out, "key:                 %s\n", b->key);
+	if (st->have_chip)
+		fprintf(out, "chip:                ProductID 0x%02x, RevisionID 0x%02x, ROM 0x%04x, RAM 0x%04x\n",
+			st->chip.product_id, st->chip.revision_id,
+			st->chip.rom_version, st->chip.ram_version);
+	else
+		fprintf(out, "chip:                unknown (%s)\n", st->chip_err.msg);
+	status_hub_text(out, st->have_hub ? &st->hub : NULL, st->hub_err.msg);
+	fprintf(out, "calibration level:   %d (%s)\n", cs->level,
+		sw_level_name(cs->level));
+	if (cs->has_score) {
+		fprintf(out, "calibration score:   %.3f%%\n",
+			sw_score_pct(cs->score_raw));
+		fprintf(out, "gyro bias update:    %d\n", cs->gyro_bias_update);
+		fprintf(out, "mag cal update:      %d\n", cs->mag_cal_update);
+	} else {
+		fprintf(out, "calibration score:   not reported by this firmware (saved by the level alone)\n");
+	}
+	if (!st->have_file) {
+		fprintf(out, "saved file:          %s: %s\n", st->path,
+			st->file_why);
+		return;
+	}
+	sw_file_describe(&st->f, desc, sizeof(desc));
+	fmt_time(st->f.saved_at, when, sizeof(when));
+	fprintf(out, "saved file:          %s: %s, saved %s\n", st->path, desc,
+		when);
+	fprintf(out, "restored:            %s\n", st->restored_what);
+}
+
+/*
+ * The saved file: loaded into st, or why not. An error only for a file
+ * root must not trust (see below).
+ */
+static int status_file(struct sw_backend *b, const struct sw_opts *o,
+		       struct status *st, struct sw_err *e)
+{
+	char *why = st->file_why, old[4096];
+	size_t len = sizeof(st->file_why);
+	struct sw_err ferr;
 	int ret, err = 0;
 
-	ret = b->ops->cal_state(b, &cs, e);
-	if (ret)
-		return ret;
-	sw_err_clear(&cerr);
-	have_chip = b->ops->chip_info(b, &chip, &cerr) == SW_EXIT_OK;
-	sw_err_clear(&herr);
-	have_hub = b->ops->hub_info(b, &hub, &herr) == SW_EXIT_OK;
-	sw_file_path(o, b, path, sizeof(path));
+	sw_file_path(o, b, st->path, sizeof(st->path));
 	sw_err_clear(&ferr);
-	ret = load_existing(o, path, have_chip ? &chip : NULL, &f, &have_file,
-			    why, sizeof(why), &err, &ferr);
+	ret = load_existing(o, st->path, st->have_chip ? &st->chip : NULL,
+			    &st->f, &st->have_file, why, len, &err, &ferr);
 	/*
 	 * The chip's attributes are world-readable, the state directory is
 	 * root's: a user still sees the chip's part. Root is told of a state
@@ -891,86 +1042,61 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 	 */
 	if (ret && geteuid() != 0 &&
 	    (ret == SW_EXIT_PERM || err == EACCES)) {
-		snprintf(why, sizeof(why), "needs root to read (%s)", ferr.msg);
+		snprintf(why, len, "needs root to read (%s)", ferr.msg);
 		ret = SW_EXIT_OK;
 	}
 	if (ret == SW_EXIT_STATEDIR) {
-		snprintf(why, sizeof(why), "%s", ferr.msg);
+		snprintf(why, len, "%s", ferr.msg);
 		ret = SW_EXIT_OK;
 	}
 	if (ret)
 		return sw_err_set(e, ret, "%s", ferr.msg);
-	if (!have_file && !why[0] && !o->file &&
+	if (!st->have_file && !why[0] && !o->file &&
 	    (legacy_path(o, b, 0, old, sizeof(old)) ||
 	     legacy_path(o, b, 1, old, sizeof(old))))
-		snprintf(why, sizeof(why),
+		snprintf(why, len,
 			 "none yet; %s (saved under an older key) moves here at the next restore or save",
 			 old);
-	if (!have_file && !why[0])
-		snprintf(why, sizeof(why), "no saved calibration yet");
-	if (have_file)
-		fmt_time(f.saved_at, when, sizeof(when));
-
-	if (o->json) {
-		fprintf(out, "{\"device\":");
-		sw_json_str(out, b->name);
-		fprintf(out, ",\"backend\":\"%s\",\"key\":", b->kind);
-		sw_json_str(out, b->key);
-		if (have_chip)
-			fprintf(out, ",\"product_id\":%u,\"revision_id\":%u,\"rom_version\":%u,\"ram_version\":%u",
-				chip.product_id, chip.revision_id,
-				chip.rom_version, chip.ram_version);
-		status_hub_json(out, have_hub ? &hub : NULL);
-		if (cs.reported)
-			fprintf(out, ",\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"mag_transient\":%d,\"gyro_bias_update\":%d,\"mag_calibration_update\":%d,\"file\":",
-				cs.status, sw_score_pct(cs.score_raw),
-				cs.score_raw, cs.mag_transient,
-				cs.gyro_bias_update, cs.mag_cal_update);
-		else
-			fprintf(out, ",\"calibration_status\":null,\"calibration_score\":null,\"calibration_score_raw\":null,\"mag_transient\":null,\"gyro_bias_update\":null,\"mag_calibration_update\":null,\"file\":");
-		sw_json_str(out, path);
-		if (have_file)
-			fprintf(out, ",\"saved\":{\"calibration_status\":%d,\"calibration_score\":%.3f,\"calibration_score_raw\":%u,\"saved_at\":%llu}}\n",
-				f.cal_status, sw_score_pct(f.score_raw),
-				f.score_raw, (unsigned long long)f.saved_at);
-		else {
-			fprintf(out, ",\"saved\":null,\"saved_problem\":");
-			sw_json_str(out, why);
-			fprintf(out, "}\n");
-		}
-		return SW_EXIT_OK;
-	}
-
-	fprintf(out, "device:              %s (%s backend)\n", b->name, b->kind);
-	fprintf(out, "key:                 %s\n", b->key);
-	if (have_chip)
-		fprintf(out, "chip:                ProductID 0x%02x, RevisionID 0x%02x, ROM 0x%04x, RAM 0x%04x\n",
-			chip.product_id, chip.revision_id, chip.rom_version,
-			chip.ram_version);
-	else
-		fprintf(out, "chip:                unknown (%s)\n", cerr.msg);
-	status_hub_text(out, have_hub ? &hub : NULL, herr.msg);
-	if (!cs.reported) {
-		if (have_chip)
-			fprintf(out, "calibration status:  not reported by this firmware (RAM 0x%04x)\n",
-				chip.ram_version);
-		else
-			fprintf(out, "calibration status:  not reported by this firmware\n");
-	} else {
-		fprintf(out, "calibration status:  %d%s\n", cs.status,
-			cs.status == 3 ? " (complete)" : "");
-		fprintf(out, "calibration score:   %.3f%%\n",
-			sw_score_pct(cs.score_raw));
-		fprintf(out, "mag transient:       %d\n", cs.mag_transient);
-		fprintf(out, "gyro bias update:    %d\n", cs.gyro_bias_update);
-		fprintf(out, "mag cal update:      %d\n", cs.mag_cal_update);
-	}
-	if (have_file)
-		fprintf(out, "saved file:          %s (status %d, score %.3f%%, saved %s)\n",
-			path, f.cal_status, sw_score_pct(f.score_raw), when);
-	else
-		fprintf(out, "saved file:          %s: %s\n", path, why);
+	if (!st->have_file && !why[0])
+		snprintf(why, len, "no saved calibration yet");
 	return SW_EXIT_OK;
+}
+
+int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
+		  struct sw_env *env, struct sw_err *e)
+{
+	struct status *st;
+	int ret;
+
+	st = calloc(1, sizeof(*st));
+	if (!st)
+		return sw_err_set(e, SW_EXIT_OSERR, "out of memory");
+	ret = b->ops->cal_state(b, &st->cs, e);
+	if (ret)
+		goto out;
+	sw_err_clear(&st->chip_err);
+	st->have_chip = b->ops->chip_info(b, &st->chip, &st->chip_err) ==
+			SW_EXIT_OK;
+	sw_err_clear(&st->hub_err);
+	st->have_hub = b->ops->hub_info(b, &st->hub, &st->hub_err) ==
+		       SW_EXIT_OK;
+	ret = status_file(b, o, st, e);
+	if (ret)
+		goto out;
+	/* Only a file made for this chip can have been restored into it. */
+	if (st->have_file && st->have_chip)
+		st->restored = status_restored(b, &st->f, st->restored_what,
+					       sizeof(st->restored_what));
+	else
+		snprintf(st->restored_what, sizeof(st->restored_what),
+			 "unknown (%s)", st->chip_err.msg);
+	if (o->json)
+		status_json(env->out, b, st);
+	else
+		status_text(env->out, b, st);
+out:
+	free(st);
+	return ret;
 }
 
 int sw_cmd_key(struct sw_backend *b, const struct sw_opts *o,
@@ -995,6 +1121,11 @@ int sw_cmd_key(struct sw_backend *b, const struct sw_opts *o,
 int sw_cmd_show(const struct sw_opts *o, struct sw_env *env,
 		struct sw_err *e)
 {
+	static const char *const judgements[] = {
+		[SW_JUDGED_NONE] = "none (imported from the board's EEPROM: no level or score)",
+		[SW_JUDGED_SCORE] = "score (the application note's score)",
+		[SW_JUDGED_STABLE] = "stable (the level alone: the firmware reports no score)",
+	};
 	uint8_t buf[SW_FILE_MAX_READ + 1];
 	enum sw_file_check c;
 	char detail[160], when[40];
@@ -1013,15 +1144,22 @@ int sw_cmd_show(const struct sw_opts *o, struct sw_env *env,
 	fmt_time(f.saved_at, when, sizeof(when));
 	fprintf(out, "file:                %s\n", o->file);
 	fprintf(out, "format:              %s version %d, %zu bytes, CRC-32 0x%08x ok\n",
-		SW_FILE_MAGIC, SW_FILE_VERSION, len,
+		SW_FILE_MAGIC, f.version, len,
 		sw_get_le32(buf + SW_FILE_SIZE - 4));
 	fprintf(out, "ProductID:           0x%02x\n", f.chip.product_id);
 	fprintf(out, "RevisionID:          0x%02x\n", f.chip.revision_id);
 	fprintf(out, "ROM version:         0x%04x\n", f.chip.rom_version);
 	fprintf(out, "RAM version:         0x%04x\n", f.chip.ram_version);
-	fprintf(out, "calibration status:  %d\n", f.cal_status);
-	fprintf(out, "calibration score:   %.3f%% (raw 0x%04x)\n",
-		sw_score_pct(f.score_raw), f.score_raw);
+	if (f.version == SW_FILE_VERSION_1)
+		fprintf(out, "calibration status:  %d (%s)\n", f.state,
+			f.state == 3 ? "complete: stable" : "not stable");
+	else if (f.judgement != SW_JUDGED_NONE)
+		fprintf(out, "calibration level:   %d (%s)\n", f.state,
+			sw_level_name(f.state));
+	fprintf(out, "judgement:           %s\n", judgements[f.judgement]);
+	if (f.judgement == SW_JUDGED_SCORE)
+		fprintf(out, "calibration score:   %.3f%% (raw 0x%04x)\n",
+			sw_score_pct(f.score_raw), f.score_raw);
 	fprintf(out, "saved at:            %s (%llu)\n", when,
 		(unsigned long long)f.saved_at);
 	fprintf(out, "parameters:\n");

@@ -61,9 +61,11 @@ int sw_cmd_accel_cal(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, struct sw_err *e);
 /*
  * Stay running: read the calibration state every o->poll_s and save by
- * the policy (improve_only, margin, at most one write per o->interval_s).
- * Ends with SW_EXIT_OK on SIGINT, SIGTERM or SIGHUP, with SW_EXIT_DEVICE
- * when the device goes away.
+ * the policy (improve_only, margin, at most one write per o->interval_s;
+ * a save held back by it is made when allowed, if still wanted). Without
+ * a score, the blob is read when the level rises to 4 (or is 4 at the
+ * first look), not while it stays. Ends with SW_EXIT_OK on SIGINT, SIGTERM
+ * or SIGHUP, with SW_EXIT_DEVICE when the device goes away.
  */
 int sw_cmd_watch(struct sw_backend *b, const struct sw_opts *o,
 		 struct sw_env *env, struct sw_err *e);
@@ -79,32 +81,35 @@ int sw_cmd_import_board(struct sw_backend *b, const struct sw_opts *o,
 			struct sw_env *env, struct sw_err *e);
 
 /*
- * The driver does not report the calibration of the chip's firmware
- * (sw_cal_state.reported false): SW_EXIT_DRIVER, with a message naming
- * the RAM version, what is not done (what) and how to add the firmware.
+ * A snapshot of the chip: the calibration state, the blob and the state
+ * again, checked (sw_cal_state_check(), else SW_EXIT_IO); *cs is the worse
+ * of the two states (see sw_save_now()). One blob read.
  */
-int sw_err_not_reported(struct sw_backend *b, const char *what,
-			struct sw_err *e);
+int sw_read_snapshot(struct sw_backend *b, struct sw_cal_state *cs,
+		     uint8_t *blob, struct sw_err *e);
 
 /*
- * save: read the state, the blob and the state again, and save by the
- * policy; *saved (may be NULL) says whether a file was written. Writers
- * of one file take turns (sw_file_lock_open()), waiting SW_LOCK_WAIT_MS
- * at most. Without --force, nothing is saved when the driver does not
- * report the calibration (sw_err_not_reported()): the policy would have
- * nothing to judge it by.
+ * save: a snapshot (sw_read_snapshot()), saved by the policy; *saved (may
+ * be NULL) says whether a file was written. The blob is judged by the
+ * worse of the states before and after its read: stable means level 4 on
+ * both, and a calibration that changed under the read is judged by the
+ * worse. Writers of one file take turns (sw_file_lock_open()), waiting
+ * SW_LOCK_WAIT_MS at most. A glitched read (EIO, a value out of range) is
+ * an error and saves nothing.
  */
 int sw_save_now(struct sw_backend *b, const struct sw_opts *o,
 		struct sw_env *env, bool *saved, struct sw_err *e);
 
 /*
  * Would the policy save a calibration in state cs? Reads the saved file,
- * the chip's identity and its accel offsets (the driver's copy), not the
- * blob: no bus transaction with the driver.
+ * the chip's identity, and the chip's accel offsets from blob, or when
+ * blob is NULL from the driver's copy (no bus transaction with the
+ * driver); without blob the stable rule cannot compare the magnetometer
+ * coefficients and says no unless there is another reason.
  */
 int sw_save_wanted(struct sw_backend *b, const struct sw_opts *o,
-		   const struct sw_cal_state *cs, bool *yes, char *why,
-		   size_t len, struct sw_err *e);
+		   const struct sw_cal_state *cs, const uint8_t *blob,
+		   bool *yes, char *why, size_t len, struct sw_err *e);
 
 /*
  * Apply the save policy to a snapshot (calibration state + blob taken

@@ -2,29 +2,77 @@
 /*
  * sentral-warmstart: save policy.
  */
-#include "policy.h"
+#include <math.h>
 
-/* The calibration's own case: status and score against the saved file. */
-static bool calibration_better(const struct sw_policy_in *in, char *why,
-			       size_t len)
+#include "level.h"
+#include "policy.h"
+#include "wsfile.h"
+
+bool sw_param_moved(float now, float saved)
+{
+	double old = saved, tol = SW_PARAM_TOLERANCE * fmax(1.0, fabs(old));
+
+	return fabs((double)now - old) > tol;
+}
+
+int sw_params_moved(const uint8_t *now, const uint8_t *saved, int first,
+		    int last)
+{
+	int n;
+
+	for (n = first; n <= last; n++)
+		if (sw_param_moved(sw_blob_param(now, n),
+				   sw_blob_param(saved, n)))
+			return n;
+	return 0;
+}
+
+int sw_blob_restored(const uint8_t *chip, const uint8_t *saved)
+{
+	int n = sw_params_moved(chip, saved, SW_PARAM_MAG_FIRST,
+				SW_PARAM_MAG_LAST);
+
+	return n ? n : sw_params_moved(chip, saved, SW_PARAM_ACCEL_X,
+				       SW_PARAM_ACCEL_X + 2);
+}
+
+/* What the chip's state is now, for messages. */
+static void describe(const struct sw_policy_in *in, char *buf, size_t len)
+{
+	if (in->has_score)
+		snprintf(buf, len, "level %d (%s), score %.3f%%", in->level,
+			 sw_level_name(in->level), sw_score_pct(in->score_raw));
+	else
+		snprintf(buf, len, "level %d (%s)", in->level,
+			 sw_level_name(in->level));
+}
+
+/* Why a level below 4 is no calibration to keep, and what to do. */
+static const char *not_stable_hint(int level)
+{
+	switch (level) {
+	case SW_LEVEL_HALTED:
+		return "the fusion algorithm is halted (standby)";
+	case SW_LEVEL_UNRELIABLE:
+		return "the sensor data is unreliable";
+	case SW_LEVEL_TRANSIENT:
+		return "a magnetic transient: keep the device away from magnets and steel";
+	default:
+		return "move the device in a figure-8 first";
+	}
+}
+
+/* The score rule: the score against the saved file's. */
+static bool score_better(const struct sw_policy_in *in, char *why,
+			 size_t len)
 {
 	double pct = sw_score_pct(in->score_raw);
 	double old_pct = sw_score_pct(in->old_score_raw);
-	bool have_old = in->have_old && sw_score_raw_valid(in->old_score_raw);
-	bool old_good = have_old && in->old_status == 3 &&
+	bool have_old = in->have_old && in->old_has_score &&
+			sw_score_raw_valid(in->old_score_raw);
+	bool old_good = have_old && in->old_level == SW_LEVEL_STABLE &&
 			old_pct <= in->max_score;
 
-	if (in->force) {
-		snprintf(why, len, "forced (status %d, score %.3f%%)",
-			 in->status, pct);
-		return true;
-	}
-	if (in->status != 3) {
-		snprintf(why, len,
-			 "calibration incomplete (status %d, needs 3); move the device in a figure-8 first",
-			 in->status);
-		return false;
-	}
 	/* In raw steps of 100/32768 %: exact where percentages round. */
 	if (in->improve_only && old_good &&
 	    (in->score_raw >= in->old_score_raw ||
@@ -61,14 +109,72 @@ static bool calibration_better(const struct sw_policy_in *in, char *why,
 	return false;
 }
 
+/*
+ * The stable rule: without a score, a stable calibration is as good as
+ * any other; it is worth a write only when it differs from the saved one.
+ */
+static bool stable_differs(const struct sw_policy_in *in, char *why,
+			   size_t len)
+{
+	if (!in->have_old) {
+		snprintf(why, len, "stable, and no usable saved calibration");
+		return true;
+	}
+	if (in->old_level != SW_LEVEL_STABLE) {
+		snprintf(why, len, "stable, and the saved calibration (%s) is not",
+			 in->old_desc ? in->old_desc : "");
+		return true;
+	}
+	if (in->mag_moved > 0) {
+		snprintf(why, len,
+			 "stable, and parameter %d (%s) moved from the saved file's by more than %.1f %%",
+			 in->mag_moved, sw_param_name(in->mag_moved),
+			 SW_PARAM_TOLERANCE * 100);
+		return true;
+	}
+	if (in->offsets_differ) {
+		snprintf(why, len,
+			 "stable, and the accel offsets differ from the saved file's");
+		return true;
+	}
+	if (in->mag_moved < 0)
+		snprintf(why, len,
+			 "stable; the magnetometer coefficients were not compared with the saved file's");
+	else
+		snprintf(why, len,
+			 "stable, and the magnetometer coefficients (parameters %d-%d) are within %.1f %% of the saved file's",
+			 SW_PARAM_MAG_FIRST, SW_PARAM_MAG_LAST,
+			 SW_PARAM_TOLERANCE * 100);
+	return false;
+}
+
+/* The calibration's own case: its level, then the score or stable rule. */
+static bool calibration_better(const struct sw_policy_in *in, char *why,
+			       size_t len)
+{
+	char now[96];
+
+	describe(in, now, sizeof(now));
+	if (in->force) {
+		snprintf(why, len, "forced (%s)", now);
+		return true;
+	}
+	if (in->level != SW_LEVEL_STABLE) {
+		snprintf(why, len, "calibration not stable (%s; needs 4): %s",
+			 now, not_stable_hint(in->level));
+		return false;
+	}
+	return in->has_score ? score_better(in, why, len) :
+	       stable_differs(in, why, len);
+}
+
 enum sw_save_what sw_policy_save(const struct sw_policy_in *in, char *why,
 				 size_t len)
 {
-	bool have_old = in->have_old && sw_score_raw_valid(in->old_score_raw);
-	char cal[256];
+	char cal[320];
 
 	/* Below 0 % is a bad read: it would look better than any calibration. */
-	if (!sw_score_raw_valid(in->score_raw)) {
+	if (in->has_score && !sw_score_raw_valid(in->score_raw)) {
 		snprintf(why, len, "score %.3f%% is out of range (a bad read?)",
 			 sw_score_pct(in->score_raw));
 		return SW_SAVE_NOTHING;
@@ -79,11 +185,17 @@ enum sw_save_what sw_policy_save(const struct sw_policy_in *in, char *why,
 		return SW_SAVE_NOTHING;
 	/* The accel offsets are the user's work: never lost to the score. */
 	snprintf(cal, sizeof(cal), "%s", why);
-	if (have_old) {
+	if (in->have_old) {
 		snprintf(why, len,
-			 "the accel offsets differ from the saved file's; its calibration (status %d, score %.3f%%) is kept: %s",
-			 in->old_status, sw_score_pct(in->old_score_raw), cal);
+			 "the accel offsets differ from the saved file's; its calibration (%s) is kept: %s",
+			 in->old_desc ? in->old_desc : "", cal);
 		return SW_SAVE_OFFSETS;
+	}
+	if (in->level != SW_LEVEL_STABLE) {
+		snprintf(why, len,
+			 "%s; the chip's accel offsets are saved with its calibration once it is stable",
+			 cal);
+		return SW_SAVE_NOTHING;
 	}
 	snprintf(why, len,
 		 "the chip holds accel offsets and no usable file does: saving its calibration as it is, although %s",
@@ -103,7 +215,7 @@ enum sw_save_what sw_policy_import(const struct sw_policy_in *in, char *why,
 		return SW_SAVE_BLOB;
 	}
 	snprintf(why, len,
-		 "a saved calibration exists (status %d, score %.3f%%) and the board's block carries no status or score to compare it with (--force replaces it)",
-		 in->old_status, sw_score_pct(in->old_score_raw));
+		 "a saved calibration exists (%s) and the board's block carries no level or score to compare it with (--force replaces it)",
+		 in->old_desc ? in->old_desc : "");
 	return SW_SAVE_NOTHING;
 }

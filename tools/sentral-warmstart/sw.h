@@ -97,17 +97,15 @@ struct sw_chip_info {
 	uint16_t ram_version;	/* regs 0x72-0x73 */
 };
 
-/* Calibration state as the seed app note defines it. */
+/*
+ * Calibration state. Every firmware has the level; the score and update
+ * flags are the application note's registers, which only some firmware
+ * has (the driver makes their attributes only then, see level.h).
+ */
 struct sw_cal_state {
-	/*
-	 * false: the driver does not report it for the chip's firmware (not
-	 * known to keep it in these registers); the fields below then hold
-	 * status 0 and the worst score, 100 % (raw 0xffff).
-	 */
-	bool reported;
-	int status;		/* reg 0x43 bits 1:0, 3 = complete */
-	uint16_t score_raw;	/* regs 0x4D | 0x4E << 8 */
-	int mag_transient;	/* reg 0x43 bits 3:2 */
+	int level;		/* enum sw_level, 0..4, 4 = stable */
+	bool has_score;		/* the three fields below were read */
+	uint16_t score_raw;	/* regs 0x4D | 0x4E << 8; 0 without a score */
 	/*
 	 * 0/1: the chip reported an update in reg 0x44 (bit 1 gyro bias,
 	 * bit 0 magnetic calibration). The driver's flags stay 1 until
@@ -148,12 +146,6 @@ struct sw_hub_info {
 	unsigned int nfeatures;	/* 0: the board has none */
 	struct sw_feature features[SW_NFEATURES];	/* in slot order */
 };
-
-/*
- * Values read from the chip are input, not truth: true when every field of
- * cs is in range, else false with why saying which is not.
- */
-bool sw_cal_state_check(const struct sw_cal_state *cs, char *why, size_t len);
 
 /* Little-endian helpers: the file format and the bus are both LE. */
 static inline void sw_put_le16(uint8_t *p, uint16_t v)

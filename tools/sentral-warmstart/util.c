@@ -116,25 +116,6 @@ bool sw_parse_score(const char *text, uint16_t *raw)
 	return true;
 }
 
-bool sw_cal_state_check(const struct sw_cal_state *cs, char *why, size_t len)
-{
-	if (cs->status < 0 || cs->status > 3)
-		snprintf(why, len, "calibration status %d is not 0..3", cs->status);
-	else if (cs->mag_transient < 0 || cs->mag_transient > 3)
-		snprintf(why, len, "mag_transient %d is not 0..3",
-			 cs->mag_transient);
-	else if (cs->gyro_bias_update < 0 || cs->gyro_bias_update > 1 ||
-		 cs->mag_cal_update < 0 || cs->mag_cal_update > 1)
-		snprintf(why, len, "update flags %d %d are not 0 or 1",
-			 cs->gyro_bias_update, cs->mag_cal_update);
-	else if (!sw_score_raw_valid(cs->score_raw))
-		snprintf(why, len, "calibration score %.3f%% is below 0 %%",
-			 sw_score_pct(cs->score_raw));
-	else
-		return true;
-	return false;
-}
-
 float sw_blob_param(const uint8_t *blob, int n)
 {
 	uint32_t u = sw_get_le32(blob + 4 * (n - 1));

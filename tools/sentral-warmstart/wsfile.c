@@ -16,6 +16,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include "level.h"
 #include "wsfile.h"
 
 static const char *const check_names[] = {
@@ -48,12 +49,12 @@ enum {
 	OFF_REVISION = 11,
 	OFF_ROM = 12,
 	OFF_RAM = 14,
-	OFF_STATUS = 16,
-	OFF_RSVD1 = 17,
+	OFF_STATE = 16,
+	OFF_JUDGEMENT = 17,
 	OFF_SCORE = 18,
 	OFF_TIME = 20,
 	OFF_PSIZE = 28,
-	OFF_RSVD2 = 30,
+	OFF_RSVD = 30,
 	OFF_PAYLOAD = SW_FILE_HDR_SIZE,
 	OFF_CRC = SW_FILE_HDR_SIZE + SW_BLOB_SIZE,
 };
@@ -62,12 +63,14 @@ size_t sw_file_encode(const struct sw_file *f, uint8_t *buf)
 {
 	memset(buf, 0, SW_FILE_SIZE);
 	memcpy(buf + OFF_MAGIC, SW_FILE_MAGIC, 8);
-	sw_put_le16(buf + OFF_VERSION, SW_FILE_VERSION);
+	sw_put_le16(buf + OFF_VERSION, (uint16_t)f->version);
 	buf[OFF_PRODUCT] = f->chip.product_id;
 	buf[OFF_REVISION] = f->chip.revision_id;
 	sw_put_le16(buf + OFF_ROM, f->chip.rom_version);
 	sw_put_le16(buf + OFF_RAM, f->chip.ram_version);
-	buf[OFF_STATUS] = (uint8_t)f->cal_status;
+	buf[OFF_STATE] = (uint8_t)f->state;
+	if (f->version != SW_FILE_VERSION_1)
+		buf[OFF_JUDGEMENT] = (uint8_t)f->judgement;
 	sw_put_le16(buf + OFF_SCORE, f->score_raw);
 	sw_put_le64(buf + OFF_TIME, f->saved_at);
 	sw_put_le16(buf + OFF_PSIZE, SW_BLOB_SIZE);
@@ -90,6 +93,45 @@ int sw_blob_nonfinite(const uint8_t *blob)
 		if (detail) \
 			snprintf(detail, detail_len, __VA_ARGS__); \
 	} while (0)
+
+/*
+ * Bytes 16..19 and the reserved bytes of a file whose CRC matched: in
+ * range for its version, and a score exactly when it was judged by one.
+ */
+static bool header_ok(const uint8_t *buf, unsigned int version, char *detail,
+		      size_t detail_len)
+{
+	unsigned int state = buf[OFF_STATE], judged = buf[OFF_JUDGEMENT];
+	uint16_t score = sw_get_le16(buf + OFF_SCORE);
+
+	if (sw_get_le16(buf + OFF_RSVD)) {
+		DETAIL("reserved bytes 30-31 are 0x%04x, not 0",
+		       sw_get_le16(buf + OFF_RSVD));
+		return false;
+	}
+	if (version == SW_FILE_VERSION_1) {
+		if (state > 3 || judged) {
+			DETAIL("calibration status %u or reserved byte 17 (0x%02x) out of range",
+			       state, judged);
+			return false;
+		}
+		judged = SW_JUDGED_SCORE;
+	} else if (state > SW_LEVEL_MAX || judged > SW_JUDGED_STABLE) {
+		DETAIL("calibration level %u or judgement %u out of range",
+		       state, judged);
+		return false;
+	}
+	if (judged == SW_JUDGED_SCORE && !sw_score_raw_valid(score)) {
+		DETAIL("calibration score raw 0x%04x is below 0 %%", score);
+		return false;
+	}
+	if (judged != SW_JUDGED_SCORE && score) {
+		DETAIL("raw score 0x%04x, not 0, with judgement %s", score,
+		       sw_judgement_name((enum sw_judgement)judged));
+		return false;
+	}
+	return true;
+}
 
 /*
  * The order matters: each check only looks at bytes an earlier check has
@@ -119,9 +161,9 @@ enum sw_file_check sw_file_decode(const uint8_t *buf, size_t len,
 		return SW_CHECK_TRUNCATED;
 	}
 	version = sw_get_le16(buf + OFF_VERSION);
-	if (version != SW_FILE_VERSION) {
-		DETAIL("format version %u, this tool reads version %d",
-		       version, SW_FILE_VERSION);
+	if (version != SW_FILE_VERSION && version != SW_FILE_VERSION_1) {
+		DETAIL("format version %u, this tool reads versions %d and %d",
+		       version, SW_FILE_VERSION_1, SW_FILE_VERSION);
 		return SW_CHECK_VERSION;
 	}
 	if (len < SW_FILE_HDR_SIZE) {
@@ -153,17 +195,8 @@ enum sw_file_check sw_file_decode(const uint8_t *buf, size_t len,
 	 * below 0 % came from a bad read and would look better than any
 	 * real calibration to the save policy.
 	 */
-	if (buf[OFF_STATUS] > 3 || buf[OFF_RSVD1] ||
-	    sw_get_le16(buf + OFF_RSVD2)) {
-		DETAIL("calibration status %u or a reserved byte out of range",
-		       buf[OFF_STATUS]);
+	if (!header_ok(buf, version, detail, detail_len))
 		return SW_CHECK_FIELD;
-	}
-	if (!sw_score_raw_valid(sw_get_le16(buf + OFF_SCORE))) {
-		DETAIL("calibration score raw 0x%04x is below 0 %%",
-		       sw_get_le16(buf + OFF_SCORE));
-		return SW_CHECK_FIELD;
-	}
 	bad = sw_blob_nonfinite(buf + OFF_PAYLOAD);
 	if (bad) {
 		DETAIL("parameter %d (%s) is NaN or infinite", bad,
@@ -175,7 +208,10 @@ enum sw_file_check sw_file_decode(const uint8_t *buf, size_t len,
 		f->chip.revision_id = buf[OFF_REVISION];
 		f->chip.rom_version = sw_get_le16(buf + OFF_ROM);
 		f->chip.ram_version = sw_get_le16(buf + OFF_RAM);
-		f->cal_status = buf[OFF_STATUS];
+		f->version = (int)version;
+		f->state = buf[OFF_STATE];
+		f->judgement = version == SW_FILE_VERSION_1 ? SW_JUDGED_SCORE :
+			       (enum sw_judgement)buf[OFF_JUDGEMENT];
 		f->score_raw = sw_get_le16(buf + OFF_SCORE);
 		f->saved_at = sw_get_le64(buf + OFF_TIME);
 		memcpy(f->payload, buf + OFF_PAYLOAD, SW_BLOB_SIZE);
@@ -205,6 +241,41 @@ enum sw_file_check sw_file_match_chip(const struct sw_file *f,
 	}
 	DETAIL("matches");
 	return SW_CHECK_OK;
+}
+
+const char *sw_judgement_name(enum sw_judgement j)
+{
+	static const char *const names[] = {
+		[SW_JUDGED_NONE] = "none",
+		[SW_JUDGED_SCORE] = "score",
+		[SW_JUDGED_STABLE] = "stable",
+	};
+
+	if ((unsigned int)j >= sizeof(names) / sizeof(names[0]))
+		return "?";
+	return names[j];
+}
+
+int sw_file_level(const struct sw_file *f)
+{
+	if (f->version != SW_FILE_VERSION_1)
+		return f->state;
+	return f->state == 3 ? SW_LEVEL_STABLE : SW_LEVEL_CALIBRATING;
+}
+
+void sw_file_describe(const struct sw_file *f, char *buf, size_t len)
+{
+	if (f->version == SW_FILE_VERSION_1)
+		snprintf(buf, len, "version 1: status %d, score %.3f%%",
+			 f->state, sw_score_pct(f->score_raw));
+	else if (f->judgement == SW_JUDGED_SCORE)
+		snprintf(buf, len, "level %d (%s), score %.3f%%", f->state,
+			 sw_level_name(f->state), sw_score_pct(f->score_raw));
+	else if (f->judgement == SW_JUDGED_STABLE)
+		snprintf(buf, len, "level %d (%s), no score", f->state,
+			 sw_level_name(f->state));
+	else
+		snprintf(buf, len, "imported from the board's EEPROM");
 }
 
 /*

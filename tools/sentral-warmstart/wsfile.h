@@ -1,20 +1,24 @@
 /* SPDX-License-Identifier: GPL-2.0-only */
 /*
- * sentral-warmstart: the saved-file format ("SNTRLWS1", version 1).
+ * sentral-warmstart: the saved-file format ("SNTRLWS1", version 2; version
+ * 1 files are still read).
  *
  * All fields little-endian; the byte layout is documented in
  * sentral-warmstart.8 (FILE FORMAT) and must match it:
  *
  *   off size field
  *     0    8 magic "SNTRLWS1"
- *     8    2 format version (1)
+ *     8    2 format version (2; 1 is read too)
  *    10    1 ProductID (reg 0x90)
  *    11    1 RevisionID (reg 0x91)
  *    12    2 ROM version (regs 0x70-0x71)
  *    14    2 RAM version (regs 0x72-0x73)
- *    16    1 calibration status at save time (0..3)
- *    17    1 reserved, 0
- *    18    2 raw calibration score at save time (0x4D | 0x4E << 8)
+ *    16    1 version 2: calibration level at save time (0..4);
+ *            version 1: the application note's status (0..3, 3 complete)
+ *    17    1 version 2: judgement (0 none, 1 score, 2 stable);
+ *            version 1: reserved, 0 (judged by the score)
+ *    18    2 raw calibration score (0x4D | 0x4E << 8) when judged by the
+ *            score, else 0
  *    20    8 save time, seconds since the Unix epoch
  *    28    2 payload size (140)
  *    30    2 reserved, 0
@@ -28,19 +32,54 @@
 #include "sw.h"
 
 #define SW_FILE_MAGIC "SNTRLWS1"
-#define SW_FILE_VERSION 1
+/* What the tool writes; version 1 (before the level) is still read. */
+#define SW_FILE_VERSION 2
+#define SW_FILE_VERSION_1 1
 #define SW_FILE_HDR_SIZE 32
 #define SW_FILE_SIZE (SW_FILE_HDR_SIZE + SW_BLOB_SIZE + 4)
 /* Anything larger is not one of ours; do not read it into memory. */
 #define SW_FILE_MAX_READ 4096
 
+/* By what rule the calibration saved was judged good enough. */
+enum sw_judgement {
+	/* import-board: the board's EEPROM records no state at all */
+	SW_JUDGED_NONE = 0,
+	/* the application note's score (and status 3 or level 4) */
+	SW_JUDGED_SCORE = 1,
+	/* level 4 alone: the firmware reports no score */
+	SW_JUDGED_STABLE = 2,
+};
+
+/* "none", "score", "stable"; "?" for anything else. */
+const char *sw_judgement_name(enum sw_judgement j);
+
 struct sw_file {
 	struct sw_chip_info chip;
-	int cal_status;
-	uint16_t score_raw;
+	/* SW_FILE_VERSION or SW_FILE_VERSION_1: what sw_file_encode() writes */
+	int version;
+	/*
+	 * Byte 16 as the version defines it: the level (0..4) at save time,
+	 * or in a version 1 file the status (0..3); see sw_file_level().
+	 */
+	int state;
+	enum sw_judgement judgement;	/* version 1: SW_JUDGED_SCORE */
+	uint16_t score_raw;		/* SW_JUDGED_SCORE only, else 0 */
 	uint64_t saved_at;
 	uint8_t payload[SW_BLOB_SIZE];
 };
+
+/*
+ * The level a file was saved at: a version 1 file's status 3 (complete)
+ * counts as 4 (stable), its 0..2 as 2 (calibrating).
+ */
+int sw_file_level(const struct sw_file *f);
+
+/*
+ * One phrase for messages: "level 4 (stable), score 2.499%",
+ * "level 4 (stable), judged by the level", "imported from the board's
+ * EEPROM, not judged" or "format 1: status 3, score 2.499%".
+ */
+void sw_file_describe(const struct sw_file *f, char *buf, size_t len);
 
 /* The checks, each with a stable name used in messages and tests. */
 enum sw_file_check {

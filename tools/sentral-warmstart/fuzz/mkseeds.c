@@ -37,7 +37,9 @@ static void sample(struct sw_file *f)
 	f->chip.revision_id = 0x02;
 	f->chip.rom_version = 0x09e6;
 	f->chip.ram_version = 0x0c05;
-	f->cal_status = 3;
+	f->version = SW_FILE_VERSION;
+	f->state = 4;
+	f->judgement = SW_JUDGED_SCORE;
 	f->score_raw = sw_score_raw(1.5);
 	f->saved_at = 1795000000;
 	for (n = 1; n <= SW_NPARAMS; n++)
@@ -56,8 +58,24 @@ static void wsfile_seeds(void)
 	sw_file_encode(&f, buf);
 	put("wsfile", "valid.ws", buf, SW_FILE_SIZE);
 
+	/* Each judgement, and version 1. */
+	f.judgement = SW_JUDGED_STABLE;
+	f.score_raw = 0;
+	sw_file_encode(&f, buf);
+	put("wsfile", "valid-stable.ws", buf, SW_FILE_SIZE);
+	f.judgement = SW_JUDGED_NONE;
+	f.state = 0;
+	sw_file_encode(&f, buf);
+	put("wsfile", "valid-import.ws", buf, SW_FILE_SIZE);
+	sample(&f);
+	f.version = SW_FILE_VERSION_1;
+	f.state = 3;
+	sw_file_encode(&f, buf);
+	put("wsfile", "valid-v1.ws", buf, SW_FILE_SIZE);
+
 	/* Extremes that must still be accepted. */
-	f.cal_status = 0;
+	sample(&f);
+	f.state = 0;
 	f.score_raw = 0xffff;
 	f.saved_at = UINT64_MAX;
 	sw_blob_set_param(f.payload, 1, -0.0f);
@@ -80,9 +98,22 @@ static void wsfile_seeds(void)
 	buf[40] ^= 1;
 	put("wsfile", "bad-crc.ws", buf, SW_FILE_SIZE);
 
-	f.cal_status = 4;
+	f.state = 5;
 	sw_file_encode(&f, buf);
-	put("wsfile", "bad-status.ws", buf, SW_FILE_SIZE);
+	put("wsfile", "bad-level.ws", buf, SW_FILE_SIZE);
+	f.state = 4;
+	f.judgement = SW_JUDGED_STABLE;
+	sw_file_encode(&f, buf);
+	put("wsfile", "bad-stable-score.ws", buf, SW_FILE_SIZE);
+	f.judgement = (enum sw_judgement)3;
+	f.score_raw = 0;
+	sw_file_encode(&f, buf);
+	put("wsfile", "bad-judgement.ws", buf, SW_FILE_SIZE);
+	sample(&f);
+	f.version = SW_FILE_VERSION_1;
+	f.state = 4;
+	sw_file_encode(&f, buf);
+	put("wsfile", "bad-status-v1.ws", buf, SW_FILE_SIZE);
 
 	sample(&f);
 	sw_blob_set_param(f.payload, 7, NAN);
@@ -96,8 +127,8 @@ static void wsfile_seeds(void)
 
 	sample(&f);
 	sw_file_encode(&f, buf);
-	sw_put_le16(buf + 8, 2);
-	put("wsfile", "version-2.ws", buf, SW_FILE_SIZE);
+	sw_put_le16(buf + 8, 3);
+	put("wsfile", "version-3.ws", buf, SW_FILE_SIZE);
 }
 
 #define ARGV(name, s) put("cli", name, s, sizeof(s) - 1)

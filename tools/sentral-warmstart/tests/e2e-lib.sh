@@ -43,11 +43,12 @@ cal_status() {
 	cat "$(em7180_dir)/in_magn_calibration_auto_status"
 }
 
-# Complete with a score of 3% or better.
+# Stable (level 4) and, where the firmware has a score, 3% or better.
 calibrated_good() {
 	local d
 	d=$(em7180_dir) || return 1
-	[ "$(cat "$d/in_magn_calibration_auto_status")" = 3 ] &&
+	[ "$(cat "$d/in_magn_calibration_auto_status")" = 4 ] || return 1
+	[ ! -e "$d/in_magn_calibration_score" ] ||
 		awk '{ exit !($1 <= 3.0) }' "$d/in_magn_calibration_score"
 }
 

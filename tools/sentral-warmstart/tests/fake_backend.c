@@ -39,10 +39,11 @@ static void current_state(struct fake_be *f, struct sw_cal_state *cs)
 	for (i = 0; i < f->nsteps; i++) {
 		if (f->script[i].at_ms > f->clk->now_ms)
 			break;
-		cs->status = f->script[i].status;
-		cs->score_raw = f->script[i].score_raw;
+		cs->level = f->script[i].level;
+		if (cs->has_score)
+			cs->score_raw = f->script[i].score_raw;
 		/* The driver's flag: set until calibration_data is read. */
-		if (f->script[i].gyro_bias_update &&
+		if (cs->has_score && f->script[i].gyro_bias_update &&
 		    (!f->flags_cleared ||
 		     f->script[i].at_ms > f->flags_cleared_ms))
 			cs->gyro_bias_update = 1;
@@ -66,6 +67,12 @@ static int f_cal_state(struct sw_backend *b, struct sw_cal_state *cs,
 		return e->code;
 	f->state_reads++;
 	current_state(f, cs);
+	if (cs->level == FAKE_GLITCH)
+		return sw_err_set(e, SW_EXIT_IO,
+				  "%s: reading in_magn_calibration_auto_status: Input/output error",
+				  b->name);
+	if (!cs->has_score)
+		cs->score_raw = 0;
 	return SW_EXIT_OK;
 }
 
@@ -85,10 +92,13 @@ static int f_read_blob(struct sw_backend *b, uint8_t *blob, struct sw_err *e)
 		struct sw_cal_state cs;
 
 		current_state(f, &cs);
-		sw_blob_set_param(f->blob, 18, (float)cs.score_raw);
+		sw_blob_set_param(f->blob, 18, cs.has_score ?
+				  (float)cs.score_raw : (float)cs.level);
 	}
 	memcpy(blob, f->blob, SW_BLOB_SIZE);
 	clear_flags(f);
+	if (f->level_after_read >= 0)
+		f->cs.level = f->level_after_read;
 	return SW_EXIT_OK;
 }
 
@@ -106,8 +116,8 @@ static int f_write_blob(struct sw_backend *b, const uint8_t *blob,
 	for (k = 0; k < 3; k++)
 		f->offset[k] = sw_g_to_lsb(sw_blob_param(blob,
 							 SW_PARAM_ACCEL_X + k));
-	if (f->status_after_write >= 0)
-		f->cs.status = f->status_after_write;
+	if (f->level_after_write >= 0)
+		f->cs.level = f->level_after_write;
 	return SW_EXIT_OK;
 }
 
@@ -228,10 +238,11 @@ void fake_init(struct fake_be *f, struct fake_clock *clk)
 	f->chip.revision_id = 0x02;
 	f->chip.rom_version = 0x09e6;
 	f->chip.ram_version = 0x0c05;
-	f->cs.reported = true;
-	f->cs.status = 3;
+	f->cs.level = 4;
+	f->cs.has_score = true;
 	f->cs.score_raw = sw_score_raw(2.5);
-	f->status_after_write = 3;
+	f->level_after_write = 4;
+	f->level_after_read = -1;
 	fake_fill_blob(f->blob);
 	/* The USFS board: barometer and thermometer, firmware from its EEPROM */
 	f->hub.fw_source = SW_FW_EEPROM;

@@ -14,10 +14,16 @@ struct fake_clock {
 	uint64_t wall_s;
 };
 
-/* From at_ms on, cal_state reports this (a calibration script). */
+/* A level that reads as the driver's EIO for a glitch (AlgorithmStatus 0xff). */
+#define FAKE_GLITCH (-1)
+
+/*
+ * From at_ms on, cal_state reports this (a calibration script); score_raw
+ * and the flag only where cs.has_score says the firmware has them.
+ */
 struct fake_step {
 	uint64_t at_ms;
-	int status;
+	int level;		/* or FAKE_GLITCH */
 	uint16_t score_raw;
 	int gyro_bias_update;	/* 1: the chip reports an update at at_ms */
 };
@@ -26,12 +32,16 @@ struct fake_be {
 	struct sw_backend b;
 	struct fake_clock *clk;
 	struct sw_chip_info chip;
-	struct sw_cal_state cs;		/* when there is no script */
+	/* when there is no script; cs.has_score: the firmware has a score */
+	struct sw_cal_state cs;
 	const struct fake_step *script;
 	size_t nsteps;
-	int status_after_write;		/* -1: a restore changes nothing */
+	int level_after_write;		/* -1: a restore changes nothing */
+	/* the level the chip is at after a read of the blob, -1: as before */
+	int level_after_read;
 	uint8_t blob[SW_BLOB_SIZE];
-	bool blob_follows_score;	/* blob param 18 = current score */
+	/* blob param 18 = current score (the level without one) */
+	bool blob_follows_score;
 	int writes, reads;
 	int fail_write;			/* exit code write_blob returns */
 	/*

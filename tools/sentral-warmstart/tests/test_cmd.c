@@ -112,7 +112,9 @@ static void test_save_good(void **state)
 	c->fb.cs.score_raw = sw_score_raw(2.9);
 	assert_int_equal(save(c), SW_EXIT_OK);
 	assert_true(load(c, &f));
-	assert_int_equal(f.cal_status, 3);
+	assert_int_equal(f.version, 2);
+	assert_int_equal(f.state, 4);
+	assert_int_equal(f.judgement, SW_JUDGED_SCORE);
 	assert_int_equal(f.score_raw, sw_score_raw(2.9));
 	assert_true(f.saved_at == 1800000000);
 	assert_int_equal(f.chip.rom_version, 0x09e6);
@@ -128,13 +130,13 @@ static void test_save_policy_refusals(void **state)
 	struct sw_file f;
 
 	/* The policy saying no is a success (the unit's stop action). */
-	c->fb.cs.status = 2;
+	c->fb.cs.level = 2;
 	assert_int_equal(save(c), SW_EXIT_OK);
 	assert_non_null(strstr(out_text(c), "not saving iio:device0 calibration"));
-	assert_non_null(strstr(out_text(c), "incomplete"));
+	assert_non_null(strstr(out_text(c), "not stable (level 2 (calibrating), score 2.499%; needs 4)"));
 	assert_int_equal(access(c->path, F_OK), -1);
 
-	c->fb.cs.status = 3;
+	c->fb.cs.level = 4;
 	c->fb.cs.score_raw = sw_score_raw(6.0);
 	assert_int_equal(save(c), SW_EXIT_OK);
 	assert_int_equal(access(c->path, F_OK), -1);
@@ -213,11 +215,12 @@ static void test_restore_good(void **state)
 	memcpy(saved, c->fb.blob, SW_BLOB_SIZE);
 	/* A fresh power-on: defaults in the chip, not calibrated. */
 	memset(c->fb.blob, 0, SW_BLOB_SIZE);
-	c->fb.cs.status = 0;
+	c->fb.cs.level = 2;
 	assert_int_equal(restore(c), SW_EXIT_OK);
 	assert_int_equal(c->fb.writes, 1);
 	assert_memory_equal(c->fb.blob, saved, SW_BLOB_SIZE);
-	assert_non_null(strstr(out_text(c), "restored iio:device0"));
+	assert_non_null(strstr(out_text(c), "restored iio:device0 calibration from "));
+	assert_non_null(strstr(out_text(c), ": level 4 (stable), score 2.499% (saved: level 4 (stable), score 2.499%)"));
 }
 
 static void test_restore_missing(void **state)
@@ -317,11 +320,11 @@ static void test_restore_not_calibrated_after(void **state)
 	uint64_t t0;
 
 	assert_int_equal(save(c), SW_EXIT_OK);
-	c->fb.cs.status = 1;
-	c->fb.status_after_write = -1;
+	c->fb.cs.level = 1;
+	c->fb.level_after_write = -1;
 	t0 = c->clk.now_ms;
 	assert_int_equal(restore(c), SW_EXIT_CAL);
-	assert_non_null(strstr(c->e.msg, "calibration_status is 1"));
+	assert_non_null(strstr(c->e.msg, "but the calibration level is 1 (unreliable sensor data), not 4 (stable)"));
 	/* It waited, but not for ever. */
 	assert_true(c->clk.now_ms - t0 >= 2000 && c->clk.now_ms - t0 < 3000);
 }
@@ -366,13 +369,13 @@ static void test_save_distrusts_chip_values(void **state)
 		assert_true(sw_blob_param(f.payload, 1) == 0.5f);
 	}
 	c->fb.cs.score_raw = sw_score_raw(2.5);
-	c->fb.cs.status = 4;
+	c->fb.cs.level = 5;
 	assert_int_not_equal(save(c), SW_EXIT_OK);
-	assert_non_null(strstr(c->e.msg, "status 4"));
-	c->fb.cs.status = 3;
-	c->fb.cs.mag_transient = -1;
+	assert_non_null(strstr(c->e.msg, "level 5 is not 0..4"));
+	c->fb.cs.level = 4;
+	c->fb.cs.gyro_bias_update = 2;
 	assert_int_not_equal(save(c), SW_EXIT_OK);
-	c->fb.cs.mag_transient = 0;
+	c->fb.cs.gyro_bias_update = 0;
 	/* A good read saves again: nothing was blocked. */
 	c->fb.cs.score_raw = sw_score_raw(1.0);
 	assert_int_equal(save(c), SW_EXIT_OK);
@@ -423,7 +426,7 @@ static void test_restore_refused_then_save(void **state)
 	fputc(good[100] ^ 0x10, fp);
 	fclose(fp);
 	c->o.if_present = true;
-	c->fb.cs.status = 0;
+	c->fb.cs.level = 0;
 	assert_int_equal(restore(c), SW_EXIT_FILE);
 	assert_int_equal(SW_EXIT_FILE, 65);	/* systemctl: "65/DATAERR" */
 	assert_non_null(strstr(c->e.msg, "refused: bad CRC"));
@@ -440,7 +443,7 @@ static void test_restore_refused_then_save(void **state)
 	assert_int_equal(restore(c), SW_EXIT_OK);
 	assert_non_null(strstr(out_text(c), "nothing to restore"));
 	/* ...and the stop action saves what the chip learns meanwhile. */
-	c->fb.cs.status = 3;
+	c->fb.cs.level = 4;
 	assert_int_equal(save(c), SW_EXIT_OK);
 	assert_true(load(c, &f));
 	assert_int_equal(access(aside, F_OK), 0);
@@ -497,7 +500,7 @@ static void test_migrate_legacy_key(void **state)
 	c->o.file = NULL;
 	memcpy(saved, c->fb.blob, SW_BLOB_SIZE);
 	memset(c->fb.blob, 0, SW_BLOB_SIZE);
-	c->fb.cs.status = 0;
+	c->fb.cs.level = 0;
 	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_OK);
 	assert_non_null(strstr(out_text(c), "0-0028.ws (saved under an older key) moves here"));
@@ -523,18 +526,21 @@ static void test_status(void **state)
 	c->fb.cs.mag_cal_update = 1;
 	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_OK);
-	assert_non_null(strstr(out_text(c), "calibration status:  3 (complete)"));
-	assert_non_null(strstr(out_text(c), "gyro bias update:    0\nmag cal update:      1\n"));
+	assert_non_null(strstr(out_text(c), "calibration level:   4 (stable)\n"
+				"calibration score:   2.499%\n"
+				"gyro bias update:    0\n"
+				"mag cal update:      1\n"));
 	assert_non_null(strstr(out_text(c), "no saved calibration"));
+	assert_null(strstr(out_text(c), "restored:"));
+	assert_int_equal(c->fb.reads, 0);
 	assert_int_equal(save(c), SW_EXIT_OK);
 	c->o.json = true;
 	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_OK);
 	assert_non_null(strstr(out_text(c), "{\"device\":\"iio:device0\",\"backend\":\"fake\",\"key\":\"platform-sentral-sim-0x28\",\"product_id\":128,"));
-	assert_non_null(strstr(out_text(c), "\"calibration_status\":3,\"calibration_score\":2.499,"));
 	/* the save read calibration_data, which clears the driver's flags */
-	assert_non_null(strstr(out_text(c), ",\"gyro_bias_update\":0,\"mag_calibration_update\":0,"));
-	assert_non_null(strstr(out_text(c), "\"saved\":{\"calibration_status\":3,"));
+	assert_non_null(strstr(out_text(c), ",\"level\":4,\"level_name\":\"stable\",\"calibration_score\":2.499,\"calibration_score_raw\":33587,\"gyro_bias_update\":0,\"mag_calibration_update\":0,\"file\":"));
+	assert_non_null(strstr(out_text(c), ",\"saved\":{\"version\":2,\"level\":4,\"level_name\":\"stable\",\"calibration_score\":2.499,\"calibration_score_raw\":33587,\"saved_at\":1800000000},\"judgement\":\"score\",\"restored\":true}\n"));
 }
 
 /* The output of one status command, exit 0. */
@@ -562,10 +568,10 @@ static void test_status_hub(void **state)
 			       "firmware:            from the board's EEPROM\n"
 			       "feature sensors:     pressure 100.012 kPa at 25 Hz\n"
 			       "                     temperature 25.03 C at 25 Hz\n"
-			       "calibration status:  3"));
+			       "calibration level:   4 (stable)"));
 	c->o.json = true;
 	assert_non_null(strstr(status_out(c),
-			       "\"ram_version\":3077,\"firmware_source\":\"eeprom\",\"feature_sensors\":[{\"name\":\"pressure\",\"value\":100.012,\"unit\":\"kPa\",\"rate_hz\":25},{\"name\":\"temperature\",\"value\":25.03,\"unit\":\"C\",\"rate_hz\":25}],\"calibration_status\":3,"));
+			       "\"ram_version\":3077,\"firmware_source\":\"eeprom\",\"feature_sensors\":[{\"name\":\"pressure\",\"value\":100.012,\"unit\":\"kPa\",\"rate_hz\":25},{\"name\":\"temperature\",\"value\":25.03,\"unit\":\"C\",\"rate_hz\":25}],\"level\":4,"));
 
 	/* uploaded by the host; a buffer streams: no value, the rate still */
 	c->fb.hub.fw_source = SW_FW_HOST;
@@ -590,7 +596,7 @@ static void test_status_hub(void **state)
 			       "feature sensors:     none\n"));
 	c->o.json = true;
 	assert_non_null(strstr(status_out(c),
-			       ",\"firmware_source\":null,\"feature_sensors\":[],\"calibration_status\":3,"));
+			       ",\"firmware_source\":null,\"feature_sensors\":[],\"level\":4,"));
 
 	/* humidity: all three in slot order */
 	c->fb.hub.nfeatures = 3;
@@ -615,66 +621,67 @@ static void test_status_hub(void **state)
 	assert_non_null(strstr(status_out(c),
 			       "firmware:            unknown (iio:device0: reading in_pressure_raw: Input/output error)\n"
 			       "feature sensors:     unknown (iio:device0: reading in_pressure_raw: Input/output error)\n"
-			       "calibration status:  3"));
+			       "calibration level:   4"));
 	c->o.json = true;
 	assert_non_null(strstr(status_out(c),
-			       ",\"firmware_source\":null,\"feature_sensors\":null,\"calibration_status\":3,"));
+			       ",\"firmware_source\":null,\"feature_sensors\":null,\"level\":4,"));
 }
 
-static int watch(struct ctx *c);
-
-/* Firmware whose calibration the driver does not report (no attributes) */
-static void not_reported(struct ctx *c)
+/* Firmware without the application note's layout: the level only. */
+static void level_only(struct ctx *c)
 {
-	c->fb.cs.reported = false;
-	c->fb.cs.status = 0;
-	c->fb.cs.score_raw = 0xffff;
-	c->fb.cs.mag_transient = 0;
+	c->fb.cs.has_score = false;
+	c->fb.cs.score_raw = 0;
 	c->fb.cs.gyro_bias_update = 0;
 	c->fb.cs.mag_cal_update = 0;
 }
 
-static void test_not_reported(void **state)
+/*
+ * A USFS board: the level only. status shows it, no score or flags, and
+ * whether the chip holds the saved file (one read of the blob).
+ */
+static void test_status_level_only(void **state)
 {
 	struct ctx *c = *state;
-	struct sw_file f;
 
-	/* a good file saved while the firmware reported it */
-	assert_int_equal(save(c), SW_EXIT_OK);
-	not_reported(c);
+	level_only(c);
 	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_OK);
-	assert_non_null(strstr(out_text(c), "calibration status:  not reported by this firmware (RAM 0x0c05)\n"));
-	assert_null(strstr(out_text(c), "calibration score:"));
+	assert_non_null(strstr(out_text(c), "calibration level:   4 (stable)\n"
+				"calibration score:   not reported by this firmware (saved by the level alone)\n"
+				"saved file:          "));
+	assert_null(strstr(out_text(c), "gyro bias update:"));
 	c->o.json = true;
 	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_OK);
-	assert_non_null(strstr(out_text(c), ",\"calibration_status\":null,\"calibration_score\":null,\"calibration_score_raw\":null,\"mag_transient\":null,\"gyro_bias_update\":null,\"mag_calibration_update\":null,\"file\":"));
+	assert_non_null(strstr(out_text(c), ",\"level\":4,\"level_name\":\"stable\",\"calibration_score\":null,\"calibration_score_raw\":null,\"gyro_bias_update\":null,\"mag_calibration_update\":null,\"file\":"));
+	assert_non_null(strstr(out_text(c), ",\"saved\":null,\"saved_problem\":\"no saved calibration yet\",\"judgement\":null,\"restored\":null}\n"));
 	c->o.json = false;
 
-	/* restore writes the blob and does not wait for status 3 */
-	assert_int_equal(restore(c), SW_EXIT_OK);
-	assert_int_equal(c->fb.writes, 1);
-	assert_non_null(strstr(out_text(c), "does not report the calibration status of this firmware (RAM 0x0c05): not waiting for it"));
-
-	/* save and watch have nothing to judge by: 78 */
-	not_reported(c);	/* the fake's write set a status */
-	c->fb.reads = 0;
-	assert_int_equal(save(c), SW_EXIT_DRIVER);
-	assert_non_null(strstr(c->e.msg, "does not report the calibration status and score of this firmware (RAM 0x0c05): not saving (save --force saves anyway)"));
-	assert_int_equal(c->fb.reads, 0);
-	c->o.poll_s = 30;
-	c->o.interval_s = 300;
-	assert_int_equal(watch(c), SW_EXIT_DRIVER);
-	assert_non_null(strstr(c->e.msg, "not watching it"));
-	assert_int_equal(c->fb.reads, 0);
-
-	/* --force saves, with status 0 and the worst score */
-	c->o.force = true;
+	/* saved by the stable rule; the chip holds it */
 	assert_int_equal(save(c), SW_EXIT_OK);
-	assert_true(load(c, &f));
-	assert_int_equal(f.cal_status, 0);
-	assert_int_equal(f.score_raw, 0xffff);
+	c->fb.reads = 0;
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_int_equal(c->fb.reads, 1);
+	assert_non_null(strstr(out_text(c), ".ws: level 4 (stable), no score, saved 2027-01-15T08:00:00Z\n"
+				"restored:            yes: the chip holds the saved calibration (parameters 18-23 and 27-29 within 0.5 %)\n"));
+
+	/* a power-on: the chip's defaults, not the file's */
+	c->fb.cs.level = 2;
+	sw_blob_set_param(c->fb.blob, 18, 0.0f);
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "calibration level:   2 (calibrating)\n"));
+	assert_non_null(strstr(out_text(c), "restored:            no: parameter 18 (mcoeffs[1]) is 0 on the chip, 9 in the file\n"));
+	c->o.json = true;
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), ",\"saved\":{\"version\":2,\"level\":4,\"level_name\":\"stable\",\"calibration_score\":null,\"calibration_score_raw\":null,\"saved_at\":1800000000},\"judgement\":\"stable\",\"restored\":false}\n"));
+	/* a glitch is an error, not a level */
+	c->fb.cs.level = FAKE_GLITCH;
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_IO);
 }
 
 static void test_show(void **state)
@@ -686,7 +693,12 @@ static void test_show(void **state)
 	assert_int_equal(save(c), SW_EXIT_OK);
 	o.file = c->path;
 	assert_int_equal(sw_cmd_show(&o, &c->env, &c->e), SW_EXIT_OK);
-	assert_non_null(strstr(out_text(c), "ROM version:         0x09e6"));
+	assert_non_null(strstr(out_text(c), "format:              SNTRLWS1 version 2, 176 bytes, CRC-32 0x"));
+	assert_non_null(strstr(out_text(c), "ROM version:         0x09e6\n"
+				"RAM version:         0x0c05\n"
+				"calibration level:   4 (stable)\n"
+				"judgement:           score (the application note's score)\n"
+				"calibration score:   2.499% (raw 0x8333)\n"));
 	assert_non_null(strstr(out_text(c), " 1  xstates[1]  "));
 	assert_non_null(strstr(out_text(c), "27  acoeffs[4]  0xbcbbe447"));
 	assert_non_null(strstr(out_text(c), "(accel X offset, -47 LSB)"));
@@ -721,13 +733,13 @@ static void test_show(void **state)
 }
 
 static const struct fake_step cal_ok[] = {
-	{ 0, 0, 0xffff, 1 },		/* an update from before */
-	{ 3000, 0, 0xffff, 1 },		/* gyro bias learned */
-	{ 3500, 1, 0xffff, 0 },
-	{ 5000, 2, 0xffff, 0 },
-	{ 7000, 3, 0x8000 + 3276, 0 },	/* about 10 % */
-	{ 9000, 3, 0x8000 + 1500, 0 },
-	{ 11000, 3, 0x8000 + 900, 0 },	/* 2.747 %: done */
+	{ 0, 2, 0xffff, 1 },		/* an update from before */
+	{ 3000, 2, 0xffff, 1 },		/* gyro bias learned */
+	{ 3500, 2, 0xffff, 0 },
+	{ 5000, 3, 0xffff, 0 },		/* a transient: not stable */
+	{ 7000, 4, 0x8000 + 3276, 0 },	/* about 10 % */
+	{ 9000, 4, 0x8000 + 1500, 0 },
+	{ 11000, 4, 0x8000 + 900, 0 },	/* 2.747 %: done */
 };
 
 /* A field of 49 uT around the simulator's hard-iron offset (uT). */
@@ -770,8 +782,8 @@ static void test_calibrate(void **state)
 	assert_int_equal(f.score_raw, 0x8000 + 900);
 	assert_true(sw_blob_param(f.payload, 18) == (float)(0x8000 + 900));
 	assert_non_null(strstr(out_text(c), "figure-8"));
-	assert_non_null(strstr(out_text(c), "calibrate: status 3/3"));
-	assert_non_null(strstr(out_text(c), "Calibration complete"));
+	assert_non_null(strstr(out_text(c), "calibrate: level 4/4 (stable), score 2.747%, best 2.747%, coverage "));
+	assert_non_null(strstr(out_text(c), "Calibration stable: score 2.747%, "));
 	/* 40 samples a second, and most of the sphere seen in 8 s of turning */
 	assert_in_range(c->fb.mag_reads, 300, 400);
 	assert_non_null(strstr(out_text(c), "% of the sphere covered."));
@@ -802,9 +814,10 @@ static void test_calibrate_json(void **state)
 	/* one per 250 ms over the 8 s of step 2, the end and the save */
 	assert_in_range(objects, 30, 36);
 	assert_non_null(strstr(c->out, "{\"event\":\"progress\",\"elapsed_ms\":"));
+	assert_non_null(strstr(c->out, ",\"level\":3,\"level_name\":\"stable with a magnetic transient\",\"score\":99.997,\"best_score\":null,\"coverage\":"));
 	assert_non_null(strstr(c->out, "\"fit\":\"sphere\",\"regions\":\"1"));
 	assert_non_null(strstr(c->out, "{\"event\":\"complete\","));
-	assert_non_null(strstr(c->out, "{\"event\":\"saved\",\"status\":3,\"score\":2.747,\"file\":\""));
+	assert_non_null(strstr(c->out, "{\"event\":\"saved\",\"level\":4,\"score\":2.747,\"file\":\""));
 	fflush(c->errf);
 	assert_non_null(strstr(c->err, "Gyro bias learned"));
 	assert_non_null(strstr(c->err, "saved iio:device0 calibration"));
@@ -812,10 +825,10 @@ static void test_calibrate_json(void **state)
 
 /* Stuck at 4 %, then worse: keep and save the 4 % snapshot. */
 static const struct fake_step cal_plateau[] = {
-	{ 0, 0, 0xffff, 1 },
-	{ 500, 0, 0xffff, 1 },
-	{ 2000, 3, 0x8000 + 1311, 0 },	/* 4.0 % */
-	{ 4000, 3, 0x8000 + 1600, 0 },	/* 4.9 % */
+	{ 0, 2, 0xffff, 1 },
+	{ 500, 2, 0xffff, 1 },
+	{ 2000, 4, 0x8000 + 1311, 0 },	/* 4.0 % */
+	{ 4000, 4, 0x8000 + 1600, 0 },	/* 4.9 % */
 };
 
 static void test_calibrate_timeout_keeps_best(void **state)
@@ -837,9 +850,9 @@ static void test_calibrate_timeout_keeps_best(void **state)
 }
 
 static const struct fake_step cal_never[] = {
-	{ 0, 0, 0xffff, 1 },
-	{ 500, 0, 0xffff, 1 },
-	{ 1000, 2, 0xffff, 0 },
+	{ 0, 2, 0xffff, 1 },
+	{ 500, 2, 0xffff, 1 },
+	{ 1000, 3, 0xffff, 0 },
 };
 
 static void test_calibrate_incomplete(void **state)
@@ -853,7 +866,7 @@ static void test_calibrate_incomplete(void **state)
 	c->fb.mag = mag_spin;
 	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
 			 SW_EXIT_CAL);
-	assert_non_null(strstr(c->e.msg, "did not complete"));
+	assert_non_null(strstr(c->e.msg, "did not become stable within 5 s (level 3 of 4, stable with a magnetic transient; "));
 	/* and says what motion is missing */
 	assert_non_null(strstr(c->e.msg, "0% of the sphere covered; it has only turned about its Z axis: also tilt it"));
 	assert_int_equal(access(c->path, F_OK), -1);
@@ -884,7 +897,7 @@ static void test_calibrate_tty_map(void **state)
 	assert_non_null(strstr(o, "\033[9Asphere coverage "));
 	/* the +Z cap, centred above the 34 regions of the widest band */
 	assert_non_null(strstr(o, "\n  +Z                 #\033[K\n"));
-	assert_non_null(strstr(o, "status 3/3  score 2.747%  best 2.747%"));
+	assert_non_null(strstr(o, "level 4/4 (stable), score 2.747%, best 2.747%, "));
 	assert_non_null(strstr(o, "hint: "));
 }
 
@@ -973,9 +986,9 @@ static void test_save_keeps_accel_offsets(void **state)
 	c->clk.wall_s += 60;
 	assert_int_equal(save(c), SW_EXIT_OK);
 	assert_non_null(strstr(out_text(c), "saved iio:device0 accel offsets -47 -15 46 LSB to "));
-	assert_non_null(strstr(out_text(c), "the accel offsets differ from the saved file's; its calibration (status 3, score 1.999%) is kept: score 4.001% is worse"));
+	assert_non_null(strstr(out_text(c), "the accel offsets differ from the saved file's; its calibration (level 4 (stable), score 1.999%) is kept: score 4.001% is worse"));
 	assert_true(load(c, &f));
-	assert_int_equal(f.cal_status, 3);
+	assert_int_equal(f.state, 4);
 	assert_int_equal(f.score_raw, sw_score_raw(2.0));
 	assert_true(sw_blob_param(f.payload, 18) == 9.0f);
 	assert_int_equal(sw_get_le32(f.payload + 4 * 26), 0xbcbbe447);
@@ -995,9 +1008,10 @@ static void test_save_keeps_accel_offsets(void **state)
 }
 
 /*
- * Offsets with no saved file: the chip's blob as it is, even incomplete,
- * and its restore does not wait for a status the file never had. Zero
- * offsets (a chip not restored since power-on) never replace saved ones.
+ * Offsets with no saved file: the chip's blob as it is, but only once it
+ * is stable (level 4); a --force'd file of a calibration not stable is
+ * restored without waiting for a level it never had. Zero offsets (a chip
+ * not restored since power-on) never replace saved ones.
  */
 static void test_save_offsets_without_file(void **state)
 {
@@ -1005,27 +1019,35 @@ static void test_save_offsets_without_file(void **state)
 	struct sw_file f;
 	uint64_t t0;
 
-	c->fb.cs.status = 1;
+	c->fb.cs.level = 1;
 	c->fb.cs.score_raw = sw_score_raw(20.0);
 	assert_int_equal(save(c), SW_EXIT_OK);
 	assert_int_equal(access(c->path, F_OK), -1);
 	c->fb.offset[2] = 46;
 	assert_int_equal(save(c), SW_EXIT_OK);
-	assert_non_null(strstr(out_text(c), "saved iio:device0 calibration to"));
-	assert_non_null(strstr(out_text(c), "the chip holds accel offsets and no usable file does: saving its calibration as it is, although calibration incomplete (status 1"));
+	assert_non_null(strstr(out_text(c), "the chip's accel offsets are saved with its calibration once it is stable"));
+	assert_int_equal(access(c->path, F_OK), -1);
+	c->fb.cs.level = 4;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "the chip holds accel offsets and no usable file does: saving its calibration as it is, although score 20.001% is above the limit"));
 	assert_true(load(c, &f));
-	assert_int_equal(f.cal_status, 1);
+	assert_int_equal(f.state, 4);
+	assert_int_equal(sw_g_to_lsb(sw_blob_param(f.payload, 29)), 46);
 
-	/* the next boot: the chip's offsets at their power-on zero */
+	/* forced while unreliable; the next boot's offsets at their zero */
+	c->fb.cs.level = 1;
+	c->o.force = true;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->o.force = false;
 	c->fb.offset[2] = 0;
-	c->fb.status_after_write = -1;
+	c->fb.level_after_write = -1;
 	t0 = c->clk.now_ms;
 	assert_int_equal(restore(c), SW_EXIT_OK);
 	assert_int_equal(c->fb.offset[2], 46);
 	assert_true(c->clk.now_ms - t0 < 100);
-	assert_non_null(strstr(out_text(c), "status 1, score 20.001% (saved with status 1"));
+	assert_non_null(strstr(out_text(c), ": level 1 (unreliable sensor data), score 20.001% (saved: level 1 (unreliable sensor data), score 20.001%)"));
 
-	c->fb.cs.status = 3;
+	c->fb.cs.level = 4;
 	c->fb.cs.score_raw = sw_score_raw(2.0);
 	assert_int_equal(save(c), SW_EXIT_OK);
 	/* a boot without a restore: offsets 0, a worse calibration */
@@ -1074,13 +1096,14 @@ static void test_accel_cal_saves(void **state)
  * skipped; the good calibration that follows is saved.
  */
 static const struct fake_step cal_glitch[] = {
-	{ 0, 0, 0xffff, 1 },
-	{ 500, 0, 0xffff, 1 },
-	{ 2000, 3, 0x8000 + 1400, 0 },	/* 4.3 % */
-	{ 3000, 3, 0x0000, 0 },		/* a bad read */
-	{ 3300, 4, 0x8000 + 100, 0 },	/* another: status 4 */
-	{ 3600, 3, 0x8000 + 1200, 0 },	/* 3.7 % */
-	{ 6000, 3, 0x8000 + 900, 0 },	/* 2.747 %: done */
+	{ 0, 2, 0xffff, 1 },
+	{ 500, 2, 0xffff, 1 },
+	{ 2000, 4, 0x8000 + 1400, 0 },	/* 4.3 % */
+	{ 3000, 4, 0x0000, 0 },		/* a bad read */
+	{ 3300, 7, 0x8000 + 100, 0 },	/* another: level 7 */
+	{ 3400, FAKE_GLITCH, 0x8000, 0 }, /* the driver's EIO, twice */
+	{ 3600, 4, 0x8000 + 1200, 0 },	/* 3.7 % */
+	{ 6000, 4, 0x8000 + 900, 0 },	/* 2.747 %: done */
 };
 
 static void test_calibrate_glitch(void **state)
@@ -1106,7 +1129,7 @@ static void test_calibrate_glitch(void **state)
 static void test_calibrate_stale_gyro_flag(void **state)
 {
 	static const struct fake_step stale[] = {
-		{ 0, 0, 0xffff, 1 },
+		{ 0, 2, 0xffff, 1 },
 	};
 	struct ctx *c = *state;
 
@@ -1223,7 +1246,9 @@ static void replace_file(struct fake_be *f)
 
 	memset(&nf, 0, sizeof(nf));
 	nf.chip = f->chip;
-	nf.cal_status = 3;
+	nf.version = SW_FILE_VERSION;
+	nf.state = 4;
+	nf.judgement = SW_JUDGED_SCORE;
 	nf.score_raw = sw_score_raw(1.5);
 	fake_fill_blob(nf.payload);
 	sw_file_encode(&nf, buf);
@@ -1288,14 +1313,14 @@ static void test_iio_errors(void **state)
  * and each a poll after the change at most.
  */
 static const struct fake_step drifting[] = {
-	{ 0, 0, PCT(50.0), 0 },
-	{ 45000, 3, PCT(3.0), 0 },	/* first good one: saved at 60 s */
-	{ 75000, 3, PCT(2.8), 0 },	/* 0.2 better: not worth a write */
-	{ 105000, 3, PCT(2.4), 0 },	/* 0.6 better, 60 s after the write */
-	{ 200000, 3, PCT(2.3), 0 },	/* still waiting: saved at 360 s */
+	{ 0, 2, PCT(50.0), 0 },
+	{ 45000, 4, PCT(3.0), 0 },	/* first good one: saved at 60 s */
+	{ 75000, 4, PCT(2.8), 0 },	/* 0.2 better: not worth a write */
+	{ 105000, 4, PCT(2.4), 0 },	/* 0.6 better, 60 s after the write */
+	{ 200000, 4, PCT(2.3), 0 },	/* still waiting: saved at 360 s */
 	{ 400000, 2, PCT(10.0), 0 },	/* the field changed */
-	{ 500000, 3, PCT(2.0), 0 },	/* 0.3 better than 2.3 */
-	{ 700000, 3, PCT(1.7), 0 },	/* 0.6 better, interval past: 720 s */
+	{ 500000, 4, PCT(2.0), 0 },	/* 0.3 better than 2.3 */
+	{ 700000, 4, PCT(1.7), 0 },	/* 0.6 better, interval past: 720 s */
 };
 
 static int count(const char *s, const char *what)
@@ -1363,8 +1388,8 @@ static void test_watch(void **state)
 static void test_watch_notices_within_a_poll(void **state)
 {
 	static const struct fake_step steps[] = {
-		{ 0, 1, PCT(30.0), 0 },
-		{ 61000, 3, PCT(2.7), 0 },
+		{ 0, 2, PCT(30.0), 0 },
+		{ 61000, 4, PCT(2.7), 0 },
 	};
 	struct ctx *c = *state;
 	struct sw_file f;
@@ -1385,7 +1410,7 @@ static void test_watch_notices_within_a_poll(void **state)
 static void test_watch_device_gone(void **state)
 {
 	static const struct fake_step steps[] = {
-		{ 0, 3, PCT(3.0), 0 },
+		{ 0, 4, PCT(3.0), 0 },
 	};
 	struct ctx *c = *state;
 
@@ -1405,9 +1430,9 @@ static void test_watch_device_gone(void **state)
 static void test_watch_margin_zero(void **state)
 {
 	static const struct fake_step steps[] = {
-		{ 0, 3, PCT(3.0), 0 },
-		{ 400000, 3, PCT(3.0), 0 },
-		{ 800000, 3, PCT(2.99), 0 },
+		{ 0, 4, PCT(3.0), 0 },
+		{ 400000, 4, PCT(3.0), 0 },
+		{ 800000, 4, PCT(2.99), 0 },
 	};
 	struct ctx *c = *state;
 
@@ -1431,7 +1456,7 @@ static void unlink_after_100s(struct fake_be *f)
 static void test_watch_state_dir_repaired(void **state)
 {
 	static const struct fake_step steps[] = {
-		{ 0, 3, PCT(3.0), 0 },
+		{ 0, 4, PCT(3.0), 0 },
 	};
 	struct ctx *c = *state;
 	char sub[160];
@@ -1460,8 +1485,8 @@ static void test_watch_state_dir_repaired(void **state)
 static void test_watch_saves_offsets(void **state)
 {
 	static const struct fake_step steps[] = {
-		{ 0, 3, PCT(2.0), 0 },
-		{ 100000, 3, PCT(2.2), 0 },
+		{ 0, 4, PCT(2.0), 0 },
+		{ 100000, 4, PCT(2.2), 0 },
 	};
 	struct ctx *c = *state;
 	struct sw_file f;
@@ -1544,8 +1569,10 @@ static void test_import_board(void **state)
 	assert_int_equal(f.chip.product_id, 0x80);
 	assert_int_equal(f.chip.rom_version, 0x09e6);
 	assert_int_equal(f.chip.ram_version, c->fb.chip.ram_version);
-	assert_int_equal(f.cal_status, 0);
-	assert_int_equal(f.score_raw, 0xffff);
+	assert_int_equal(f.version, 2);
+	assert_int_equal(f.judgement, SW_JUDGED_NONE);
+	assert_int_equal(f.state, 0);
+	assert_int_equal(f.score_raw, 0);
 	assert_true(f.saved_at == 1800000000);
 	assert_int_equal(stat(c->path, &st), 0);
 	assert_int_equal(st.st_mode & 0777, 0600);
@@ -1556,13 +1583,25 @@ static void test_import_board(void **state)
 	assert_int_equal(c->fb.writes, 1);
 	assert_memory_equal(c->fb.blob, blob, SW_BLOB_SIZE);
 
-	/* A complete calibration the chip reaches later replaces the import. */
+	/*
+	 * A stable calibration the chip reaches later replaces the import,
+	 * by either rule: the import is not stable.
+	 */
 	sw_blob_set_param(c->fb.blob, 18, 7.0f);
-	c->fb.cs.status = 3;
+	c->fb.cs.level = 4;
 	c->fb.cs.score_raw = sw_score_raw(4.0);
 	assert_int_equal(save(c), SW_EXIT_OK);
 	assert_true(load(c, &f));
-	assert_int_equal(f.cal_status, 3);
+	assert_int_equal(f.state, 4);
+	assert_int_equal(f.judgement, SW_JUDGED_SCORE);
+	assert_true(sw_blob_param(f.payload, 18) == 7.0f);
+	assert_int_equal(import_image(c, img, sizeof(img), SW_BOARD_GT, true),
+			 SW_EXIT_OK);
+	level_only(c);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "stable, and the saved calibration (imported from the board's EEPROM) is not"));
+	assert_true(load(c, &f));
+	assert_int_equal(f.judgement, SW_JUDGED_STABLE);
 	assert_true(sw_blob_param(f.payload, 18) == 7.0f);
 }
 
@@ -1674,7 +1713,403 @@ static void test_import_board_keeps_saved(void **state)
 	fake_fill_blob(blob);
 	sw_blob_set_param(blob, 5, 123.0f);
 	assert_memory_equal(f.payload, blob, SW_BLOB_SIZE);
-	assert_int_equal(f.cal_status, 0);
+	assert_int_equal(f.judgement, SW_JUDGED_NONE);
+}
+
+/* The state file as a given version and header would have it. */
+static void put_state_file(struct ctx *c, int version, int state,
+			   enum sw_judgement j, uint16_t score_raw)
+{
+	uint8_t buf[SW_FILE_SIZE];
+	struct sw_file f;
+	struct sw_err e;
+
+	memset(&f, 0, sizeof(f));
+	f.chip = c->fb.chip;
+	f.version = version;
+	f.state = state;
+	f.judgement = j;
+	f.score_raw = score_raw;
+	f.saved_at = 1700000000;
+	fake_fill_blob(f.payload);
+	sw_file_encode(&f, buf);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(c->path, buf, sizeof(buf), true,
+					      &e), SW_EXIT_OK);
+}
+
+/* The state file's bytes, to tell that nothing was written. */
+static void file_bytes(struct ctx *c, uint8_t *buf)
+{
+	FILE *fp = fopen(c->path, "r");
+
+	assert_non_null(fp);
+	assert_int_equal(fread(buf, 1, SW_FILE_SIZE, fp), SW_FILE_SIZE);
+	fclose(fp);
+}
+
+/*
+ * Issue 31: firmware without the application note's score (a USFS
+ * board). save judges by the level and the coefficients: a stable
+ * calibration is saved when no usable file exists or a magnetometer
+ * coefficient (18-23) moved beyond 0.5 % (of 1 below 1); never at a
+ * level below 4. Before, it exited 78 ("not reported").
+ */
+static void test_save_stable_rule(void **state)
+{
+	struct ctx *c = *state;
+	uint8_t before[SW_FILE_SIZE], after[SW_FILE_SIZE];
+	struct sw_file f;
+	int lv;
+
+	level_only(c);
+	/* no file + stable: saved */
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "saved iio:device0 calibration to "));
+	assert_non_null(strstr(out_text(c), ": stable, and no usable saved calibration\n"));
+	assert_true(load(c, &f));
+	assert_int_equal(f.version, 2);
+	assert_int_equal(f.state, 4);
+	assert_int_equal(f.judgement, SW_JUDGED_STABLE);
+	assert_int_equal(f.score_raw, 0);
+	assert_memory_equal(f.payload, c->fb.blob, SW_BLOB_SIZE);
+
+	/* stable, the same coefficients: not written again */
+	file_bytes(c, before);
+	c->clk.wall_s += 600;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "not saving iio:device0 calibration to "));
+	assert_non_null(strstr(out_text(c), "stable, and the magnetometer coefficients (parameters 18-23) are within 0.5 % of the saved file's"));
+	file_bytes(c, after);
+	assert_memory_equal(before, after, SW_FILE_SIZE);
+
+	/* within the tolerance (9.5 * 1.004), and the rest moving: no */
+	sw_blob_set_param(c->fb.blob, 19, 9.5f * 1.004f);
+	sw_blob_set_param(c->fb.blob, 33, 1.0f);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	file_bytes(c, after);
+	assert_memory_equal(before, after, SW_FILE_SIZE);
+
+	/* beyond it (9.5 * 1.006): saved */
+	sw_blob_set_param(c->fb.blob, 19, 9.5f * 1.006f);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "stable, and parameter 19 (mcoeffs[2]) moved from the saved file's by more than 0.5 %"));
+	assert_true(load(c, &f));
+	assert_true(sw_blob_param(f.payload, 19) == 9.5f * 1.006f);
+	assert_true(f.saved_at == c->clk.wall_s);
+
+	/* levels 3, 2, 1 and 0 never save, however far it moved */
+	file_bytes(c, before);
+	sw_blob_set_param(c->fb.blob, 20, 100.0f);
+	for (lv = 3; lv >= 0; lv--) {
+		c->fb.cs.level = lv;
+		assert_int_equal(save(c), SW_EXIT_OK);
+		file_bytes(c, after);
+		assert_memory_equal(before, after, SW_FILE_SIZE);
+	}
+	assert_non_null(strstr(out_text(c), "calibration not stable (level 3 (stable with a magnetic transient); needs 4)"));
+	assert_non_null(strstr(out_text(c), "calibration not stable (level 2 (calibrating); needs 4): move the device in a figure-8 first"));
+	assert_non_null(strstr(out_text(c), "(level 1 (unreliable sensor data); needs 4): the sensor data is unreliable"));
+	assert_non_null(strstr(out_text(c), "(level 0 (halted); needs 4): the fusion algorithm is halted (standby)"));
+	/* --force takes it, as the level it is at */
+	c->o.force = true;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.state, 0);
+	assert_int_equal(f.judgement, SW_JUDGED_STABLE);
+}
+
+/*
+ * A glitch (the driver's EIO, a level out of range) is an error and
+ * writes nothing; so is a calibration that was stable before the blob
+ * read and not after it (or the other way round): the blob is judged by
+ * the worse of the two states.
+ */
+static void test_save_glitch_and_change(void **state)
+{
+	struct ctx *c = *state;
+	uint8_t before[SW_FILE_SIZE], after[SW_FILE_SIZE];
+	int rule;
+
+	for (rule = 0; rule < 2; rule++) {
+		if (rule)
+			level_only(c);
+		c->fb.cs.level = 4;
+		c->fb.level_after_read = -1;
+		c->o.force = true;
+		assert_int_equal(save(c), SW_EXIT_OK);
+		c->o.force = false;
+		file_bytes(c, before);
+		sw_blob_set_param(c->fb.blob, 18, 50.0f + rule);
+		c->fb.cs.score_raw = sw_score_raw(1.0);
+
+		c->fb.cs.level = FAKE_GLITCH;
+		c->fb.reads = 0;
+		assert_int_equal(save(c), SW_EXIT_IO);
+		assert_non_null(strstr(c->e.msg, "in_magn_calibration_auto_status: Input/output error"));
+		assert_int_equal(c->fb.reads, 0);
+		c->fb.cs.level = 9;
+		assert_int_equal(save(c), SW_EXIT_IO);
+		assert_non_null(strstr(c->e.msg, "level 9 is not 0..4, read from the chip: not saving"));
+		file_bytes(c, after);
+		assert_memory_equal(before, after, SW_FILE_SIZE);
+
+		/* stable, then a transient under the read */
+		c->fb.cs.level = 4;
+		c->fb.level_after_read = 3;
+		assert_int_equal(save(c), SW_EXIT_OK);
+		assert_non_null(strstr(out_text(c), "calibration not stable (level 3"));
+		/* calibrating, then stable under the read */
+		c->fb.cs.level = 2;
+		c->fb.level_after_read = 4;
+		assert_int_equal(save(c), SW_EXIT_OK);
+		file_bytes(c, after);
+		assert_memory_equal(before, after, SW_FILE_SIZE);
+		/* stable on both reads: saved */
+		c->fb.level_after_read = -1;
+		assert_int_equal(save(c), SW_EXIT_OK);
+		file_bytes(c, after);
+		assert_memory_not_equal(before, after, SW_FILE_SIZE);
+	}
+}
+
+/*
+ * Files of either rule and version restore on either firmware: a
+ * version 1 file (status 3 and a score) on a chip without a score, a
+ * version 2 file saved by the stable rule on a chip with one. A stable
+ * file waits for the level to come back (3 or 4), any other does not.
+ */
+static void test_restore_across_rules(void **state)
+{
+	struct ctx *c = *state;
+	uint8_t blob[SW_BLOB_SIZE];
+	struct sw_file f;
+
+	fake_fill_blob(blob);
+	put_state_file(c, SW_FILE_VERSION_1, 3, SW_JUDGED_SCORE,
+		       sw_score_raw(2.0));
+	level_only(c);
+	c->fb.cs.level = 2;
+	memset(c->fb.blob, 0, SW_BLOB_SIZE);
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 1);
+	assert_memory_equal(c->fb.blob, blob, SW_BLOB_SIZE);
+	assert_non_null(strstr(out_text(c), ": level 4 (stable) (saved: version 1: status 3, score 1.999%)\n"));
+	/* the stable rule finds the chip holding it: nothing to write */
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "are within 0.5 % of the saved file's"));
+	assert_true(load(c, &f));
+	assert_int_equal(f.version, 1);
+	/* new accel offsets: the file goes to version 2, its header kept */
+	c->fb.cs.level = 2;
+	c->fb.offset[0] = -47;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.version, 2);
+	assert_int_equal(f.state, 4);
+	assert_int_equal(f.judgement, SW_JUDGED_SCORE);
+	assert_int_equal(f.score_raw, sw_score_raw(2.0));
+	assert_int_equal(sw_g_to_lsb(sw_blob_param(f.payload, 27)), -47);
+
+	/* a transient right after the restore is no failure */
+	c->fb.level_after_write = 3;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	/* a version 1 file saved incomplete does not wait */
+	put_state_file(c, SW_FILE_VERSION_1, 2, SW_JUDGED_SCORE,
+		       sw_score_raw(20.0));
+	c->fb.level_after_write = -1;
+	c->fb.cs.level = 2;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+
+	/* a stable-rule file on a chip with a score */
+	put_state_file(c, SW_FILE_VERSION, 4, SW_JUDGED_STABLE, 0);
+	c->fb.cs.has_score = true;
+	c->fb.cs.score_raw = sw_score_raw(99.0);
+	c->fb.level_after_write = 4;
+	c->fb.writes = 0;
+	memset(c->fb.blob, 0, SW_BLOB_SIZE);
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 1);
+	assert_memory_equal(c->fb.blob, blob, SW_BLOB_SIZE);
+	assert_non_null(strstr(out_text(c), ": level 4 (stable), score 98.999% (saved: level 4 (stable), no score)\n"));
+	/* and the score rule takes over with an acceptable score */
+	c->fb.cs.score_raw = sw_score_raw(4.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.judgement, SW_JUDGED_SCORE);
+	assert_int_equal(f.score_raw, sw_score_raw(4.0));
+	/* a stable file whose level does not come back in 2 s */
+	put_state_file(c, SW_FILE_VERSION, 4, SW_JUDGED_STABLE, 0);
+	c->fb.level_after_write = 2;
+	assert_int_equal(restore(c), SW_EXIT_CAL);
+	assert_non_null(strstr(c->e.msg, "(level 4 (stable), no score) but the calibration level is 2 (calibrating), not 4 (stable)"));
+	/* a level out of range after the write is no success */
+	c->fb.level_after_write = 9;
+	assert_int_equal(restore(c), SW_EXIT_IO);
+	assert_non_null(strstr(c->e.msg, ", then read from the chip: calibration level 9 is not 0..4"));
+}
+
+/* show: the version, the level or status, and the judgement. */
+static void test_show_versions(void **state)
+{
+	struct ctx *c = *state;
+	struct sw_opts o = c->o;
+	size_t from;
+
+	o.file = c->path;
+	put_state_file(c, SW_FILE_VERSION_1, 3, SW_JUDGED_SCORE,
+		       sw_score_raw(2.0));
+	assert_int_equal(sw_cmd_show(&o, &c->env, &c->e), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "format:              SNTRLWS1 version 1, 176 bytes"));
+	assert_non_null(strstr(out_text(c), "RAM version:         0x0c05\n"
+				"calibration status:  3 (complete: stable)\n"
+				"judgement:           score (the application note's score)\n"
+				"calibration score:   1.999% (raw 0x828f)\n"
+				"saved at:            "));
+	from = c->out_len;
+	put_state_file(c, SW_FILE_VERSION, 4, SW_JUDGED_STABLE, 0);
+	assert_int_equal(sw_cmd_show(&o, &c->env, &c->e), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c) + from, "RAM version:         0x0c05\n"
+				"calibration level:   4 (stable)\n"
+				"judgement:           stable (the level alone: the firmware reports no score)\n"
+				"saved at:            "));
+	from = c->out_len;
+	put_state_file(c, SW_FILE_VERSION, 0, SW_JUDGED_NONE, 0);
+	assert_int_equal(sw_cmd_show(&o, &c->env, &c->e), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c) + from, "RAM version:         0x0c05\n"
+				"judgement:           none (imported from the board's EEPROM: no level or score)\n"
+				"saved at:            "));
+}
+
+/* Guided to level 4 where the firmware has no score: no step 1. */
+static void test_calibrate_level_only(void **state)
+{
+	static const struct fake_step steps[] = {
+		{ 0, 2, 0, 0 },
+		{ 3000, 3, 0, 0 },
+		{ 4000, FAKE_GLITCH, 0, 0 },
+		{ 4300, 4, 0, 0 },
+	};
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	level_only(c);
+	c->clk.now_ms = 0;
+	c->fb.script = steps;
+	c->fb.nsteps = 4;
+	c->fb.mag = mag_sphere;
+	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_true(c->clk.now_ms >= 4300 && c->clk.now_ms < 4600);
+	assert_null(strstr(out_text(c), "Step 1/2"));
+	assert_null(strstr(out_text(c), ", score "));
+	assert_non_null(strstr(out_text(c), "until the calibration is stable (level 4; this firmware reports no score; up to 60 s)"));
+	assert_non_null(strstr(out_text(c), "calibrate: level 3/4 (stable with a magnetic transient), coverage "));
+	assert_non_null(strstr(out_text(c), "Calibration stable: "));
+	assert_non_null(strstr(out_text(c), "saved iio:device0 calibration to "));
+	assert_true(load(c, &f));
+	assert_int_equal(f.judgement, SW_JUDGED_STABLE);
+	assert_int_equal(f.state, 4);
+
+	/* never stable: nothing saved, and says at which level it stayed */
+	unlink(c->path);
+	c->clk.now_ms = 0;
+	c->o.timeout_s = 2;
+	c->fb.nsteps = 2;
+	c->o.json = true;
+	assert_int_equal(sw_cmd_calibrate(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_CAL);
+	assert_non_null(strstr(c->e.msg, "did not become stable within 2 s (level 2 of 4, calibrating;"));
+	assert_non_null(strstr(c->out, "\"level\":2,\"level_name\":\"calibrating\",\"score\":null,\"best_score\":null,"));
+	assert_int_equal(access(c->path, F_OK), -1);
+}
+
+/* At poll times, the coefficients the chip has learned by then. */
+static void learn_at_130s(struct fake_be *f)
+{
+	if (f->clk->now_ms >= 130000)
+		sw_blob_set_param(f->blob, 18, 20.0f);
+}
+
+/*
+ * Without a score: the level rises to 4 at 45 s (saved at 60 s: no
+ * file); it drops and rises again at 130 s with new coefficients, within
+ * the 300 s since the write: the blob is read once, the save waits and
+ * is made at 360 s, the first poll allowed, while the level stays 4.
+ */
+static void test_watch_stable_pending(void **state)
+{
+	static const struct fake_step steps[] = {
+		{ 0, 2, 0, 0 },
+		{ 45000, 4, 0, 0 },
+		{ 100000, 2, 0, 0 },
+		{ 130000, 4, 0, 0 },
+	};
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	level_only(c);
+	watch_defaults(c, steps, 4, 400000);
+	c->fb.on_chip_info = learn_at_130s;
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
+	assert_int_equal(count(out_text(c), "saved iio:device0 calibration"), 2);
+	assert_non_null(strstr(out_text(c), "stable, and no usable saved calibration"));
+	assert_int_equal(count(out_text(c), "but the last write was"), 1);
+	assert_non_null(strstr(out_text(c), "watch: iio:device0 has a calibration to save (level 4, stable, and parameter 18 (mcoeffs[1]) moved from the saved file's by more than 0.5 %), but the last write was 90 s ago: saving it in 210 s unless it changes"));
+	assert_true(load(c, &f));
+	assert_true(sw_blob_param(f.payload, 18) == 20.0f);
+	assert_true(f.saved_at == c->clk.wall_s);
+	/* the blob: at 60 s, at the rise at 150 s, for the save at 360 s */
+	assert_int_equal(c->fb.reads, 3);
+}
+
+/* A save held back is dropped when the level falls before it is allowed. */
+static void test_watch_pending_dropped(void **state)
+{
+	static const struct fake_step steps[] = {
+		{ 0, 4, 0, 0 },
+		{ 100000, 2, 0, 0 },
+		{ 130000, 4, 0, 0 },
+		{ 200000, 3, 0, 0 },
+		{ 500000, 4, 0, 0 },
+	};
+	struct ctx *c = *state;
+
+	level_only(c);
+	watch_defaults(c, steps, 5, 560000);
+	c->fb.on_chip_info = learn_at_130s;
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
+	/* at 0 s (no file), not at 360 s (level 3), at 510 s (it rose) */
+	assert_int_equal(count(out_text(c), "saved iio:device0 calibration"), 2);
+	assert_int_equal(count(out_text(c), "but the last write was"), 1);
+	assert_int_equal(c->fb.reads, 3);
+}
+
+/*
+ * Idle without a score: one look at the level a poll and nothing else;
+ * the blob was read once, at the first look, where the level was 4.
+ */
+static void test_watch_idle_reads_level(void **state)
+{
+	static const struct fake_step steady[] = {
+		{ 0, 4, 0, 0 },
+	};
+	struct ctx *c = *state;
+	uint8_t before[SW_FILE_SIZE], after[SW_FILE_SIZE];
+
+	level_only(c);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	file_bytes(c, before);
+	c->fb.reads = 0;
+	c->fb.state_reads = 0;
+	watch_defaults(c, steady, 1, 300000);
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
+	/* polls at 0, 30, ..., 270 s; the first one's snapshot: 2 more */
+	assert_int_equal(c->fb.state_reads, 10 + 2);
+	assert_int_equal(c->fb.reads, 1);
+	assert_int_equal(count(out_text(c), "not saving iio:device0 calibration"), 1);
+	file_bytes(c, after);
+	assert_memory_equal(before, after, SW_FILE_SIZE);
 }
 
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
@@ -1700,7 +2135,7 @@ int main(void)
 		T(test_migrate_legacy_key),
 		T(test_status),
 		T(test_status_hub),
-		T(test_not_reported),
+		T(test_status_level_only),
 		T(test_show),
 		T(test_calibrate),
 		T(test_calibrate_timeout_keeps_best),
@@ -1730,6 +2165,14 @@ int main(void)
 		T(test_import_board_kw),
 		T(test_import_board_refusals),
 		T(test_import_board_keeps_saved),
+		T(test_save_stable_rule),
+		T(test_save_glitch_and_change),
+		T(test_restore_across_rules),
+		T(test_show_versions),
+		T(test_calibrate_level_only),
+		T(test_watch_stable_pending),
+		T(test_watch_pending_dropped),
+		T(test_watch_idle_reads_level),
 	};
 
 	return cmocka_run_group_tests_name("commands", tests, NULL, NULL);

@@ -28,7 +28,9 @@ static void sample_file(struct sw_file *f)
 	f->chip.revision_id = 0x02;
 	f->chip.rom_version = 0x09e6;
 	f->chip.ram_version = 0x0c05;
-	f->cal_status = 3;
+	f->version = SW_FILE_VERSION;
+	f->state = 4;
+	f->judgement = SW_JUDGED_SCORE;
 	f->score_raw = 0x817a;
 	f->saved_at = 0x123456789aULL;
 	fake_fill_blob(f->payload);
@@ -49,7 +51,9 @@ static void test_roundtrip(void **state)
 	assert_int_equal(out.chip.revision_id, 0x02);
 	assert_int_equal(out.chip.rom_version, 0x09e6);
 	assert_int_equal(out.chip.ram_version, 0x0c05);
-	assert_int_equal(out.cal_status, 3);
+	assert_int_equal(out.version, 2);
+	assert_int_equal(out.state, 4);
+	assert_int_equal(out.judgement, SW_JUDGED_SCORE);
 	assert_int_equal(out.score_raw, 0x817a);
 	assert_true(out.saved_at == 0x123456789aULL);
 	assert_memory_equal(out.payload, in.payload, SW_BLOB_SIZE);
@@ -66,7 +70,7 @@ static void test_layout(void **state)
 	sample_file(&f);
 	sw_file_encode(&f, buf);
 	assert_memory_equal(buf, "SNTRLWS1", 8);
-	assert_int_equal(buf[8], 1);
+	assert_int_equal(buf[8], 2);
 	assert_int_equal(buf[9], 0);
 	assert_int_equal(buf[10], 0x80);
 	assert_int_equal(buf[11], 0x02);
@@ -74,8 +78,8 @@ static void test_layout(void **state)
 	assert_int_equal(buf[13], 0x09);
 	assert_int_equal(buf[14], 0x05);
 	assert_int_equal(buf[15], 0x0c);
-	assert_int_equal(buf[16], 3);
-	assert_int_equal(buf[17], 0);
+	assert_int_equal(buf[16], 4);
+	assert_int_equal(buf[17], 1);
 	assert_int_equal(buf[18], 0x7a);
 	assert_int_equal(buf[19], 0x81);
 	assert_int_equal(buf[20], 0x9a);
@@ -193,30 +197,40 @@ static void test_nonfinite(void **state)
 			 SW_CHECK_OK);
 }
 
+/* A field of a file with a good CRC: only the field check can catch it. */
+static enum sw_file_check with_byte(const struct sw_file *f, size_t off,
+				    uint8_t v)
+{
+	uint8_t buf[SW_FILE_SIZE];
+
+	sw_file_encode(f, buf);
+	buf[off] = v;
+	sw_put_le32(buf + 172, (uint32_t)crc32(0L, buf, 172));
+	return sw_file_decode(buf, sizeof(buf), NULL, NULL, 0);
+}
+
 static void test_bad_fields(void **state)
 {
 	uint8_t buf[SW_FILE_SIZE];
+	char detail[160];
 	struct sw_file f;
 
 	(void)state;
+	/* version 2: level 0..4, judgement 0..2 */
 	sample_file(&f);
-	f.cal_status = 4;
-	sw_file_encode(&f, buf);
-	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
-			 SW_CHECK_FIELD);
+	assert_int_equal(with_byte(&f, 16, 4), SW_CHECK_OK);
+	assert_int_equal(with_byte(&f, 16, 5), SW_CHECK_FIELD);
+	assert_int_equal(with_byte(&f, 17, 2), SW_CHECK_FIELD);
+	assert_int_equal(with_byte(&f, 17, 3), SW_CHECK_FIELD);
+	assert_int_equal(with_byte(&f, 30, 1), SW_CHECK_FIELD);
+	assert_int_equal(with_byte(&f, 31, 1), SW_CHECK_FIELD);
 
 	sample_file(&f);
 	sw_file_encode(&f, buf);
-	buf[30] = 1;
-	sw_put_le32(buf + 172, (uint32_t)crc32(0L, buf, 172));
-	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
-			 SW_CHECK_FIELD);
-
-	sample_file(&f);
-	sw_file_encode(&f, buf);
-	buf[8] = 2;
-	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
-			 SW_CHECK_VERSION);
+	buf[8] = 3;
+	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, detail,
+					 sizeof(detail)), SW_CHECK_VERSION);
+	assert_string_equal(detail, "format version 3, this tool reads versions 1 and 2");
 
 	/* A score below 0 % came from a bad read (issue 14.3). */
 	sample_file(&f);
@@ -228,6 +242,78 @@ static void test_bad_fields(void **state)
 	sw_file_encode(&f, buf);
 	assert_int_equal(sw_file_decode(buf, sizeof(buf), NULL, NULL, 0),
 			 SW_CHECK_OK);
+	/* judged stable or not at all: no score */
+	f.judgement = SW_JUDGED_STABLE;
+	f.score_raw = 0;
+	assert_int_equal(with_byte(&f, 18, 0), SW_CHECK_OK);
+	assert_int_equal(with_byte(&f, 19, 0x80), SW_CHECK_FIELD);
+	f.judgement = SW_JUDGED_NONE;
+	f.state = 0;
+	assert_int_equal(with_byte(&f, 18, 0), SW_CHECK_OK);
+	assert_int_equal(with_byte(&f, 18, 1), SW_CHECK_FIELD);
+}
+
+/*
+ * Version 1 (before the level): status 0..3 in byte 16, byte 17 reserved,
+ * always a score. Still read, and re-encoded byte for byte.
+ */
+static void test_version_1(void **state)
+{
+	uint8_t buf[SW_FILE_SIZE], again[SW_FILE_SIZE];
+	struct sw_file f, back;
+	char desc[96];
+
+	(void)state;
+	sample_file(&f);
+	f.version = SW_FILE_VERSION_1;
+	f.state = 3;
+	f.judgement = SW_JUDGED_STABLE;	/* not written in version 1 */
+	sw_file_encode(&f, buf);
+	assert_int_equal(buf[8], 1);
+	assert_int_equal(buf[16], 3);
+	assert_int_equal(buf[17], 0);
+	assert_int_equal(sw_file_decode(buf, sizeof(buf), &back, NULL, 0),
+			 SW_CHECK_OK);
+	assert_int_equal(back.version, 1);
+	assert_int_equal(back.state, 3);
+	assert_int_equal(back.judgement, SW_JUDGED_SCORE);
+	assert_int_equal(back.score_raw, 0x817a);
+	sw_file_encode(&back, again);
+	assert_memory_equal(buf, again, sizeof(buf));
+	/* status 3 is stable; 0..2 are not */
+	assert_int_equal(sw_file_level(&back), 4);
+	sw_file_describe(&back, desc, sizeof(desc));
+	assert_string_equal(desc, "version 1: status 3, score 1.154%");
+	back.state = 2;
+	assert_int_equal(sw_file_level(&back), 2);
+	assert_int_equal(with_byte(&f, 16, 4), SW_CHECK_FIELD);
+	assert_int_equal(with_byte(&f, 17, 1), SW_CHECK_FIELD);
+	assert_int_equal(with_byte(&f, 19, 0x7f), SW_CHECK_FIELD);
+	assert_int_equal(with_byte(&f, 16, 0), SW_CHECK_OK);
+}
+
+static void test_describe(void **state)
+{
+	struct sw_file f;
+	char desc[96];
+
+	(void)state;
+	sample_file(&f);
+	sw_file_describe(&f, desc, sizeof(desc));
+	assert_string_equal(desc, "level 4 (stable), score 1.154%");
+	f.judgement = SW_JUDGED_STABLE;
+	f.score_raw = 0;
+	sw_file_describe(&f, desc, sizeof(desc));
+	assert_string_equal(desc, "level 4 (stable), no score");
+	assert_int_equal(sw_file_level(&f), 4);
+	f.judgement = SW_JUDGED_NONE;
+	f.state = 0;
+	sw_file_describe(&f, desc, sizeof(desc));
+	assert_string_equal(desc, "imported from the board's EEPROM");
+	assert_string_equal(sw_judgement_name(SW_JUDGED_NONE), "none");
+	assert_string_equal(sw_judgement_name(SW_JUDGED_SCORE), "score");
+	assert_string_equal(sw_judgement_name(SW_JUDGED_STABLE), "stable");
+	assert_string_equal(sw_judgement_name((enum sw_judgement)3), "?");
 }
 
 /* calibration_score as the driver prints it, and nothing else (issue 14.3). */
@@ -712,6 +798,8 @@ int main(void)
 		cmocka_unit_test(test_every_bit_flip),
 		cmocka_unit_test(test_nonfinite),
 		cmocka_unit_test(test_bad_fields),
+		cmocka_unit_test(test_version_1),
+		cmocka_unit_test(test_describe),
 		cmocka_unit_test(test_match_chip),
 		cmocka_unit_test(test_check_names),
 		cmocka_unit_test(test_accel_units),
