@@ -138,6 +138,8 @@ struct em7180_data {
 	/* The feature sensors FeatureFlags announced at probe, slot order */
 	struct em7180_feature features[EM7180_FEATURE_MAX];
 	unsigned int n_features;
+	bool baro_settled;	/* the unit of the barometer's rate register: */
+	bool baro_half;		/* half hertz (em7180_feature.c) */
 	unsigned int last_error;	/* SensorStatus << 8 | ErrorRegister */
 	struct delayed_work recover_work;
 	bool xfer_stuck;		/* AlgorithmControl bit 7 may be set */

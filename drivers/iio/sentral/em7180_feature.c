@@ -25,8 +25,6 @@
 #include <linux/device.h>
 #include <linux/errno.h>
 #include <linux/lockdep.h>
-#include <linux/module.h>
-#include <linux/moduleparam.h>
 #include <linux/mutex.h>
 #include <linux/regmap.h>
 #include <linux/slab.h>
@@ -56,14 +54,10 @@
  * kriswiner's USFS code writes 0x32 for a 25 Hz barometer ("sample rate of
  * barometer is baroRt/2"); gregtomasch's writes 0x19 for 25 Hz, and EM's
  * and Sony's drivers write every feature rate in Hz and read it back with
- * divisor 1. Hz is the default; the other reading is a module parameter,
- * for firmware that counts half hertz.
+ * divisor 1. The rate register is taken as Hz until the chip's actual rate
+ * (0x48 + slot, in Hz) shows half of it: the register then counts half
+ * hertz (em7180_feature_settle()).
  */
-static bool baro_rate_half;
-module_param(baro_rate_half, bool, 0444);
-MODULE_PARM_DESC(baro_rate_half,
-		 "the barometer's rate register counts half hertz (default: hertz)");
-
 /* 50 Hz at most: twice that still fits the 7 bits of the register */
 static const int em7180_feature_freq_avail[] = { 1, 2, 5, 10, 25, 50 };
 
@@ -206,9 +200,44 @@ int em7180_feature_probe(struct iio_dev *indio_dev,
 }
 
 /* Hz to the rate register and back, the report bit apart */
-static unsigned int em7180_feature_div(const struct em7180_feature *f)
+static unsigned int em7180_feature_div(struct em7180_data *data,
+				      const struct em7180_feature *f)
 {
-	return f->type == IIO_PRESSURE && baro_rate_half ? 2 : 1;
+	return f->type == IIO_PRESSURE && data->baro_half ? 2 : 1;
+}
+
+/*
+ * Once the barometer runs, its actual rate tells the unit of its rate
+ * register: a register of R giving R / 2 Hz counts half hertz, and is
+ * written again for the rate asked. Returns 1 then: @actual is stale.
+ */
+static int em7180_feature_settle(struct em7180_data *data,
+				 const struct em7180_feature *f,
+				 unsigned int actual)
+{
+	unsigned int reg, hz;
+	int ret;
+
+	lockdep_assert_held(&data->lock);
+
+	if (f->type != IIO_PRESSURE || data->baro_settled || !actual)
+		return 0;
+
+	ret = regmap_read(data->regmap, EM7180_REG_FEATURE_RATE0 + f->slot, &reg);
+	if (ret)
+		return ret;
+
+	data->baro_settled = true;
+	hz = reg & EM7180_FEATURE_RATE_MASK;
+	if (actual >= hz || abs((int)(2 * actual) - (int)hz) > 1)
+		return 0;
+
+	data->baro_half = true;
+	dev_info(data->dev, "BaroRate %u runs the barometer at %u Hz: it counts half hertz\n",
+		 hz, actual);
+	return regmap_update_bits(data->regmap,
+				  EM7180_REG_FEATURE_RATE0 + f->slot,
+				  EM7180_FEATURE_RATE_MASK, 2 * hz) ?: 1;
 }
 
 /**
@@ -238,7 +267,7 @@ int em7180_feature_configure(struct em7180_data *data, bool from_cache)
 	} else {
 		for (i = 0; i < data->n_features; i++)
 			rates[i] = EM7180_FEATURE_DEFAULT_HZ *
-				   em7180_feature_div(&data->features[i]);
+				   em7180_feature_div(data, &data->features[i]);
 	}
 
 	return regmap_bulk_write(data->regmap, EM7180_REG_FEATURE_RATE0, rates,
@@ -273,12 +302,19 @@ static int em7180_feature_rate(struct em7180_data *data,
 
 	lockdep_assert_held(&data->lock);
 
+	if (f->type == IIO_PRESSURE && !data->baro_settled) {
+		ret = regmap_read(data->regmap,
+				  EM7180_REG_ACTUAL_FEATURE0 + f->slot, &reg) ?:
+		      em7180_feature_settle(data, f, reg);
+		if (ret < 0)
+			return ret;
+	}
 	ret = regmap_read(data->regmap, EM7180_REG_FEATURE_RATE0 + f->slot,
 			  &reg);
 	if (ret)
 		return ret;
 
-	*hz = (reg & EM7180_FEATURE_RATE_MASK) / em7180_feature_div(f);
+	*hz = (reg & EM7180_FEATURE_RATE_MASK) / em7180_feature_div(data, f);
 	return 0;
 }
 
@@ -302,7 +338,9 @@ int em7180_feature_read_freq(struct em7180_data *data,
 	scoped_guard(mutex, &data->lock) {
 		ret = regmap_read(data->regmap,
 				  EM7180_REG_ACTUAL_FEATURE0 + f->slot, &rate);
-		if (!ret && !rate)
+		if (!ret)
+			ret = em7180_feature_settle(data, f, rate);
+		if (ret > 0 || (!ret && !rate))
 			ret = em7180_feature_rate(data, f, &rate);
 	}
 	if (ret)
@@ -335,7 +373,7 @@ int em7180_feature_write_freq(struct em7180_data *data,
 	return regmap_update_bits(data->regmap,
 				  EM7180_REG_FEATURE_RATE0 + f->slot,
 				  EM7180_FEATURE_RATE_MASK,
-				  hz * em7180_feature_div(f));
+				  hz * em7180_feature_div(data, f));
 }
 
 /**
