@@ -201,7 +201,7 @@ int em7180_feature_probe(struct iio_dev *indio_dev,
 
 /* Hz to the rate register and back, the report bit apart */
 static unsigned int em7180_feature_div(struct em7180_data *data,
-				      const struct em7180_feature *f)
+				       const struct em7180_feature *f)
 {
 	return f->type == IIO_PRESSURE && data->baro_half ? 2 : 1;
 }
