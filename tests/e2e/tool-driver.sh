@@ -106,11 +106,11 @@ is "saved accel offsets are Table 1" "$(words 27 29 "$payload")" "$TABLE1 "
 knob gbias_period_ms 600000
 ok "replug: unbind, power cycle, bind" replug "$client"
 DEV=$(em7180_dir)
-is "power cycle lost the calibration" "$(cal_status)" 0
+is "power cycle lost the calibration" "$(cal_level)" 0
 out=$(sentral-warmstart restore 2>&1)
 is "restore exits 0" $? 0
 like "restore reports status 3" "$out" "restored .* status 3"
-is "in_magn_calibration_auto_status 3 without motion" "$(cal_status)" 3
+is "in_magn_calibration_auto_status 3 without motion" "$(cal_level)" 3
 is "chip parameters 1..35 equal the saved payload" "$(sim_ws_params)" "$payload"
 is "chip blob via sysfs equals the saved payload" \
 	"$(blob_words <"$DEV/calibration_data")" "$payload"
