@@ -281,6 +281,21 @@ is "save --force: exit 0" $? 0
 like "saying so" "$out" "saved iio:device[0-9]+ calibration to $f: forced \(level 4 \(stable\)\)"
 is "the file holds the chip's coefficients" \
 	"$(words 18 23 "$(file_payload_words "$f")")" "$(words 18 23 "$(sim_ws_params)")"
+# restore waits for level 3 or 4 after a file saved stable: a magnetic
+# transient is no failure (the coefficients are taken), unreliable sensor
+# data is.
+knob mag_transient 1
+out=$(sentral-warmstart restore 2>&1)
+is "restore in a magnetic transient: exit 0" $? 0
+like "at level 3" "$out" "restored iio:device[0-9]+ calibration from $f: level 3 \(stable with a magnetic transient\)"
+knob mag_transient 0
+knob algo_status_or 0x20
+out=$(sentral-warmstart restore 2>&1)
+is "restore with unreliable sensor data: exit 75" $? 75
+like "saying at which level" "$out" \
+	"wrote $f \(level 4 \(stable\), no score\) but the calibration level is 1 \(unreliable sensor data\), not 4 \(stable\)"
+knob algo_status_or 0
+sleep 0.6
 
 # --state-dir: created 0700 when missing.
 ok "save --state-dir /tmp/sd" sentral-warmstart --state-dir /tmp/sd save
