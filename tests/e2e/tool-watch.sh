@@ -13,11 +13,12 @@
 # (keeping the file's calibration); a manual watcher next to it changes
 # nothing for it; SIGTERM ends it (it dies of the signal). A save that the
 # write interval holds back is made once allowed while the level stays 4,
-# and not while it is below. Then the application note's layout (found by
-# the driver at a bind, the score rule): a score saved over the file
-# without one at the first look, then only a real improvement, at most
-# once per --interval while the calibration keeps drifting, also while a
-# buffer streams. It exits 69 within a poll of the driver's unbind.
+# and not while it is below; so is a save that failed (a full disk). Then
+# the application note's layout (found by the driver at a bind, the score
+# rule): a score saved over the file without one at the first look, then
+# only a real improvement, at most once per --interval while the
+# calibration keeps drifting, also while a buffer streams. It exits 69
+# within a poll of the driver's unbind.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -235,6 +236,26 @@ ok "back at 4, it is" wait_for 5 logged 3 "$SAVED"
 ok "the chip's coefficients" holds_chip
 kill -TERM "$pid"
 wait "$pid"
+
+# A save that fails (a full file system) is tried again once the interval
+# has passed, while the level stays 4.
+mkdir -p /tmp/full
+mount -t tmpfs -o size=8k,mode=0700 tmpfs /tmp/full
+differs
+cp /tmp/differs.ws /tmp/full/cal.ws
+dd if=/dev/zero of=/tmp/full/filler bs=1k count=64 status=none 2>/dev/null
+sentral-warmstart watch --poll 1 --interval 4 --file /tmp/full/cal.ws >"$log" 2>&1 &
+pid=$!
+ok "a save on a full file system fails" wait_for 5 logged 1 "No space left on device"
+like "and is to be tried again" "$(cat "$log")" "watch: trying again in 4 s"
+rm /tmp/full/filler
+ok "tried again once there is space" \
+	wait_for 8 logged 1 "$SAVED to /tmp/full/cal.ws: stable, and parameter 21"
+is "the chip's coefficients" "$(words 18 23 "$(file_payload_words /tmp/full/cal.ws)")" \
+	"$(words 18 23 "$(sim_ws_params)")"
+kill -TERM "$pid"
+wait "$pid"
+umount /tmp/full
 
 # The application note's layout, found by the driver at the next bind: the
 # score rule.
