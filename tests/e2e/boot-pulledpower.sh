@@ -51,7 +51,7 @@ if [ "${1:-}" = --inside ]; then
 	second)
 		like "restored at probe by udev" "$(dmesg)" \
 			"restored iio:device[0-9]+ calibration from $f"
-		is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_status)" 4
+		is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_level)" 4
 		is "motion never set this boot" "$(cat "$SIM_DBG/motion")" 0
 		# Parameters 33..35 are the gyro bias, which the chip learns
 		# again within gbias_period_ms of standing still: boot 1 saved
@@ -59,6 +59,8 @@ if [ "${1:-}" = --inside ]; then
 		is "the chip's blob equals the saved payload (but the gyro bias)" \
 			"$(words 1 32 "$(blob_words <"$DEV/calibration_data")")" \
 			"$(words 1 32 "$(file_payload_words "$f")")"
+		like "status: the chip holds the saved calibration" "$(sentral-warmstart status)" \
+			$'\ncalibration level: +4 \\(stable\\)\n.*\nrestored: +yes: '
 		ok "the application streams again" sh -c "iio_readdev -b 16 -s 100 \
 			em7180 rot_quaternion timestamp >/tmp/stream.bin"
 		is "100 scans" "$(stat -c %s /tmp/stream.bin)" 1600

@@ -5,8 +5,9 @@
 # directory (tests/uml/run --udev --state DIR), like reboots of a real
 # machine:
 #   1. calibrate (simulated motion) and save;
-#   2. udev restores at probe: in_magn_calibration_auto_status is 4 (stable) without any motion
-#      and the chip's blob equals the saved payload;
+#   2. udev restores at probe: in_magn_calibration_auto_status is 4 (stable)
+#      without any motion, the chip's blob equals the saved payload, and
+#      status says so (the level, "restored: yes");
 #   3. with the file corrupted, the restore at probe is refused, the message
 #      is in the kernel log, the chip is left alone and the file is moved
 #      aside; the chip calibrates again and the save (the unit's stop
@@ -29,7 +30,7 @@ if [ "${1:-}" = --inside ]; then
 	case $2 in
 	first)
 		like "first boot: nothing to restore" "$(dmesg)" "no saved calibration"
-		is "not calibrated: 2" "$(cal_status)" 2
+		is "not calibrated: 2" "$(cal_level)" 2
 		ok "simulated figure-8 until calibrated" calibrate_by_motion
 		# Seed step 2: the gyro bias learned while still is part of
 		# the warm start (and the next boot re-learns the same one).
@@ -37,18 +38,24 @@ if [ "${1:-}" = --inside ]; then
 		ok "gyro bias learned while still" wait_for 10 gbias_above "$n"
 		ok "save" sentral-warmstart save
 		ok "file saved" test -f "$f"
+		like "status: the chip holds it" "$(sentral-warmstart status)" \
+			"saved file: +$f: level 4 \(stable\), no score, saved .*"$'\n'"restored: +yes"
 		;;
 	second)
 		like "restored at probe by udev" "$(dmesg)" "restored iio:device[0-9]+ calibration from $f"
-		is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_status)" 4
+		is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_level)" 4
 		is "motion never set this boot" "$(cat "$SIM_DBG/motion")" 0
 		is "the chip's blob equals the saved payload" \
 			"$(blob_words <"$DEV/calibration_data")" "$(file_payload_words "$f")"
+		out=$(sentral-warmstart status 2>&1)
+		like "status: the level, stable" "$out" $'\ncalibration level: +4 \\(stable\\)\n'
+		like "status: the chip holds the saved calibration" "$out" \
+			$'\nrestored: +yes: the chip holds the saved calibration'
 		;;
 	third)
 		like "refused at probe, logged with the check" "$(dmesg)" \
 			"error: $f: refused: bad CRC.*moved aside to $f.refused"
-		is "chip untouched: not calibrated (2)" "$(cal_status)" 2
+		is "chip untouched: not calibrated (2)" "$(cal_level)" 2
 		ok "chip untouched: magnetic coefficients are not the file's" \
 			test "$(words 18 23 "$(sim_ws_params)")" != \
 			"$(words 18 23 "$(file_payload_words "$f.refused")")"
@@ -60,7 +67,7 @@ if [ "${1:-}" = --inside ]; then
 	fourth)
 		like "the new calibration restored at probe" "$(dmesg)" \
 			"restored iio:device[0-9]+ calibration from $f"
-		is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_status)" 4
+		is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_level)" 4
 		is "the chip's blob equals the new file's payload" \
 			"$(blob_words <"$DEV/calibration_data")" "$(file_payload_words "$f")"
 		;;

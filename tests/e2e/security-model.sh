@@ -93,7 +93,7 @@ nok "nobody cannot unbind the driver" \
 ok "the driver is still bound" test -e "$DEV/name"
 
 # --- What an unprivileged user can do ------------------------------------
-ok "nobody can read in_magn_calibration_status" as_nobody cat "$DEV/in_magn_calibration_auto_status"
+ok "nobody can read in_magn_calibration_auto_status" as_nobody cat "$DEV/in_magn_calibration_auto_status"
 ok "nobody can read in_magn_calibration_score" as_nobody cat "$DEV/in_magn_calibration_score"
 is "nobody can read the chip identity" "$(as_nobody cat "$DEV/product_id")" 0x80
 knob stats 0
@@ -158,12 +158,15 @@ is "and transfers no parameter" "$(served)" 0
 # The chip's attributes are world-readable: status shows them to anyone.
 out=$(as_nobody sentral-warmstart status 2>&1)
 is "nobody: status exits 0" $? 0
-like "with the chip's part" "$out" "calibration status:  [0-3]"
+like "with the chip's part" "$out" \
+	$'\ncalibration level: +[0-4] \\([a-z ]+\\)\ncalibration score: +[0-9.]+%\n'
+nok "and no restored line: that needs the file" grep -q '^restored:' <<<"$out"
 like "and says the file needs root" "$out" "saved file: .*needs root"
 
 # A real calibration to work with.
 ok "calibrate by simulated motion" calibrate_by_motion
 ok "save it" sentral-warmstart save --force
+is "judged by the score (the application note's layout)" "$(ws_header "$f" | cut -d' ' -f3)" 1
 cp -p "$f" /tmp/good.ws
 
 # restore_refused DESC EXIT ARGS...: the tool exits EXIT within 20 s, and
@@ -344,28 +347,24 @@ is "save over a directory at the state path: exit 65" $? 65
 rmdir "$f"
 mv /tmp/good2.ws "$f"
 
-# forge FILE OFFSET STRUCT-FORMAT VALUE: rewrite a field and fix the CRC,
-# as anyone who can write the file can.
+# forge FILE OFFSET STRUCT-FORMAT VALUE: the saved file with a field
+# rewritten and the CRC fixed, as anyone who can write the file can.
 forge() {
-	python3 - "$f" "$@" <<'EOF'
-import sys, zlib, struct
-src, dst, off, fmt, val = sys.argv[1:6]
-b = bytearray(open(src, 'rb').read())
-off = int(off)
-struct.pack_into(fmt, b, off, int(val, 0))
-b[172:176] = struct.pack('<I', zlib.crc32(bytes(b[:172])))
-open(dst, 'wb').write(b)
-EOF
+	ws_edit "$f" "$1" "$2:$3:$4"
 }
-# Checked fields: refused with a valid CRC, nothing written.
-for case in "magic:0:<B:0" "version 2:8:<H:2" "payload size 139:28:<H:139" \
-	"reserved byte:17:<B:1" "param 1 +Inf:32:<I:0x7f800000" "param 20 signalling NaN:108:<I:0x7f800001" \
+# Checked fields: refused with a valid CRC, nothing written. (The file is
+# judged by the score: the firmware has the application note's layout.)
+for case in "magic:0:<B:0" "version 3:8:<H:3" "payload size 139:28:<H:139" \
+	"reserved bytes 30-31:30:<H:1" "param 1 +Inf:32:<I:0x7f800000" "param 20 signalling NaN:108:<I:0x7f800001" \
 	"param 35 -Inf:168:<I:0xff800000" "ProductID 0x81:10:<B:0x81" \
-	"ROM version 0x1234:12:<H:0x1234" "RAM version 0x1234:14:<H:0x1234" "calibration status 4:16:<B:4"; do
+	"ROM version 0x1234:12:<H:0x1234" "RAM version 0x1234:14:<H:0x1234" "calibration level 5:16:<B:5" \
+	"judgement 3:17:<B:3" "a score below 0 %:18:<H:0x7fff"; do
 	IFS=: read -r desc off fmt val <<<"$case"
 	forge /tmp/forged.ws "$off" "$fmt" "$val"
 	restore_refused "$desc with a valid CRC" 65 --file /tmp/forged.ws
 done
+ws_edit "$f" /tmp/forged.ws '8:<H:1' '17:<B:2'
+restore_refused "version 1 with byte 17 set, with a valid CRC" 65 --file /tmp/forged.ws
 forge /tmp/forged.ws 32 '<I' 0x7f800000
 restore_refused "--force does not override the file checks" 65 --file /tmp/forged.ws --force
 forge /tmp/forged.ws 10 '<B' 0x81

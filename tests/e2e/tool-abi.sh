@@ -4,7 +4,10 @@
 # sentral-warmstart against an em7180 driver older or newer than itself:
 # the device's directory is replaced (a bind mount of a copy) by one whose
 # attributes are an earlier release's (the update counters instead of the
-# update flags) or lack one the tool uses without any earlier one. Every
+# update flags; in_magn_transient beside the application note's status) or
+# lack one the tool uses without any earlier one (the level, or some of the
+# score's three attributes). The simulated chip is a USFS board, whose
+# firmware reports the level alone: no mismatch. Every
 # command but key and show then exits 78 before touching anything, with a
 # message that says older or newer and what to install; key still names
 # the device for udev; the watcher's unit does not restart on 78 and has a
@@ -17,7 +20,10 @@
 DEV=$(em7180_dir)
 ok "an em7180 IIO device is present" test -n "$DEV"
 real=$(readlink -f "$DEV")
-ok "status exits 0 with this release's driver" sentral-warmstart status
+out=$(sentral-warmstart status 2>&1)
+is "status exits 0 with this release's driver" $? 0
+like "on firmware that reports the level alone: no mismatch" "$out" \
+	$'\ncalibration level: +[0-4] \\([a-z ]+\\)\ncalibration score: +not reported by this firmware'
 version=$(sentral-warmstart --version | sed 's/.* //')
 key=$(sentral-warmstart key)
 
@@ -59,9 +65,11 @@ with_dir() {
 	return $rc
 }
 
-# The update counters' driver (between 1.0.0 and 1.1.0).
+# The update counters' driver (between 1.0.0 and 1.1.0): the score with
+# the counters instead of the flags.
 fake_dir /tmp/older -in_anglvel_calibration_update -in_magn_calibration_update \
-	in_anglvel_calibration_update_count in_magn_calibration_update_count
+	in_magn_calibration_score in_anglvel_calibration_update_count \
+	in_magn_calibration_update_count
 out=$(with_dir /tmp/older sentral-warmstart status 2>&1)
 is "an older driver: status exits 78" $? 78
 is "saying so, with what to install" "$out" \
@@ -75,12 +83,27 @@ is "restore exits 78 too, the chip untouched" $? 78
 out=$(with_dir /tmp/older sentral-warmstart key 2>&1)
 is "key still names the device (udev's rule needs it)" "$out" "$key"
 
+# The driver before the level: the application note's status 0-3 in
+# in_magn_calibration_auto_status, with in_magn_transient beside it.
+fake_dir /tmp/status in_magn_transient in_magn_calibration_score \
+	in_anglvel_calibration_update in_magn_calibration_update
+out=$(with_dir /tmp/status sentral-warmstart save 2>&1)
+is "the driver of the application note's status: save exits 78" $? 78
+is "saying it is older" "$out" \
+	"sentral-warmstart: error: ${DEV##*/}: the em7180 driver is older than sentral-warmstart $version: it has in_magn_transient (the application note's status 0-3 in in_magn_calibration_auto_status); install the em7180 driver of release $version (em7180-dkms) and reload it or reboot"
+
 # A driver that renamed an attribute the tool uses: newer.
-fake_dir /tmp/newer -in_magn_calibration_update
+fake_dir /tmp/newer -in_magn_calibration_auto_status
 out=$(with_dir /tmp/newer sentral-warmstart save 2>&1)
 is "a newer driver: save exits 78" $? 78
 like "saying so" "$out" \
-	"the em7180 driver lacks in_magn_calibration_update, which sentral-warmstart $version uses, .*: it is newer than this tool; install the sentral-warmstart of the driver's release"
+	"the em7180 driver lacks in_magn_calibration_auto_status, which sentral-warmstart $version uses, .*: it is newer than this tool; install the sentral-warmstart of the driver's release"
+# The score's attributes come all three or none.
+fake_dir /tmp/partial in_magn_calibration_score
+out=$(with_dir /tmp/partial sentral-warmstart status 2>&1)
+is "the score without the update flags: status exits 78" $? 78
+like "saying which is missing" "$out" \
+	"the em7180 driver lacks in_anglvel_calibration_update and more, which sentral-warmstart $version uses, .*: it is newer than this tool"
 
 # A driver before firmware_source (7.3): optional, status says unknown.
 fake_dir /tmp/pre-source -firmware_source

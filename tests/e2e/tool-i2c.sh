@@ -7,7 +7,10 @@
 # power cycle, restore, the chip's parameters equal to the file, transfer
 # mode ended on every path (acknowledge never comes, NACK, SIGTERM, SIGHUP)
 # with a message saying what a failed restore left in the chip, accel-cal
-# writing parameters 27..29 as the seed's Table 1 floats.
+# writing parameters 27..29 as the seed's Table 1 floats. The level comes
+# from AlgorithmStatus, the score only where the registers have the
+# application note's layout (the driver's rule), a glitched AlgorithmStatus
+# is an error.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -53,6 +56,29 @@ is "nothing at 0x29: exit 69" $? 69
 # The driver stopped the chip when it was unbound: start it as a host does.
 ok "start the chip (rates, run)" chip_run "$bus"
 is "algorithm running" "$(dbg_get state running)" 1
+
+# The calibration level from AlgorithmStatus; the score where 0x43-0x4E
+# hold the application note's layout, not the USFS board's linear
+# acceleration.
+out=$(sentral-warmstart $i2c status 2>&1)
+like "the level over i2c-dev" "$out" $'\ncalibration level: +2 \\(calibrating\\)\n'
+like "no score on the USFS firmware" "$out" $'\ncalibration score: +not reported by this firmware'
+like "--json: level, no score" "$(sentral-warmstart $i2c status --json)" \
+	'"level":2,"level_name":"calibrating","calibration_score":null,'
+knob appnote_layout 1
+like "with the application note's layout: the score" "$(sentral-warmstart $i2c status --json)" \
+	'"level":2,"level_name":"calibrating","calibration_score":50\.000,"calibration_score_raw":49152,'
+knob appnote_layout 0
+knob algo_status_or 0xc0
+out=$(sentral-warmstart $i2c save --force --file /tmp/glitch.ws 2>&1)
+is "a glitched AlgorithmStatus: save exits 74" $? 74
+like "saying so" "$out" \
+	"AlgorithmStatus \(register 0x38\) reads 0x[cC][0-9a-fA-F], with reserved bits 6-7 set: a glitched read, not trusted"
+nok "nothing saved" test -e /tmp/glitch.ws
+knob algo_status_or 0x20
+like "bit 5: unreliable sensor data (level 1)" "$(sentral-warmstart $i2c status 2>&1)" \
+	$'\ncalibration level: +1 \\(unreliable sensor data\\)\n'
+knob algo_status_or 0
 
 # Issue 23.6: the firmware's origin from SentralStatus, the feature sensors
 # from FeatureFlags, their rate registers and data slots (the simulated
@@ -113,6 +139,8 @@ out=$(sentral-warmstart $i2c restore --file /tmp/i2c.ws 2>&1)
 is "restore over i2c-dev: exit 0" $? 0
 echo "$out" | sed 's/^/# /'
 is "calibration complete at once" "$(dbg_get state cal_status)" 3
+like "restore says so: level 4" "$out" \
+	"restored /dev/i2c-[0-9]+@0x28 calibration from /tmp/i2c.ws: level 4 \(stable\) \(saved: level 4 \(stable\), no score\)"
 is "chip parameters 1..35 equal the file" "$(sim_ws_params)" "$payload"
 is "transfer mode ended" "$(dbg_get state transfer)" 0
 is "AlgorithmControl bit 7 clear" "$(i2ctransfer -f -y "$bus" w1@0x28 0x54 r1)" 0x00

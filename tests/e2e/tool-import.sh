@@ -6,7 +6,8 @@
 # (warm-start parameters 1..35 at 0x8000, accel calibration at 0x808c,
 # marker 0xaa at 0x8098; Documentation/iio/sentral.rst) is imported, and
 # restore writes its parameters to the chip bit for bit; a blank EEPROM and
-# a damaged marker are refused with nothing written.
+# a damaged marker are refused with nothing written. The import records no
+# level or score, so the next save of a stable calibration replaces it.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -18,7 +19,7 @@ work=$(mktemp -d)
 
 # make_image OUT [MARKER]: a 64 KiB image, erased but for the block. The
 # magnetometer coefficients (18..23) are the simulated sensor's true ones
-# (tests/sim/README.md): restored, they make the calibration complete.
+# (tests/sim/README.md): restored, they make the calibration stable.
 make_image() {
 	python3 - "$1" "${2:-0xaa}" <<'PY'
 import struct, sys
@@ -34,7 +35,7 @@ PY
 
 make_image "$work/eeprom"
 want=$(dd if="$work/eeprom" bs=1 skip=$((0x8000)) count=140 status=none | blob_words)
-is "before: the chip is not calibrated" "$(cal_status)" 0
+is "before: the chip is not calibrated (level 2)" "$(cal_level)" 2
 
 # A blank EEPROM (the utilities never saved here): refused, nothing written.
 python3 -c 'open("'"$work/blank"'", "wb").write(b"\xff" * 65536)'
@@ -57,8 +58,12 @@ like "says what it imported" "$out" "imported iio:device[0-9]+'s calibration fro
 like "and that the accel calibration stays behind" "$out" "x 2049/-2047.*is not imported"
 is "the file holds the board's parameters" "$(file_payload_words "$f")" "$want"
 is "file mode 0600" "$(stat -c %a "$f")" 600
-is "recorded without a status (the board keeps none)" \
-	"$(od -An -tu1 -j16 -N1 "$f" | tr -d ' ')" 0
+is "recorded as version 2 without a level, judgement or score (the board keeps none)" \
+	"$(ws_header "$f")" "2 0 0 0"
+like "show says it was imported" "$(sentral-warmstart show "$f")" \
+	$'\njudgement: +none \\(imported'
+like "and so does status, with the chip not holding it yet" "$(sentral-warmstart status)" \
+	"imported from the board's EEPROM.*"$'\n'"restored: +no: parameter 18 "
 is "the chip's identity, as save records it" \
 	"$(sentral-warmstart show "$f" |
 		sed -n 's/^\(ProductID\|RevisionID\|ROM version\|RAM version\): *//p' |
@@ -84,9 +89,19 @@ for n in $(seq 1 35); do
 	got="$got$(sim_param "$n") "
 done
 is "the chip holds the board's 35 parameters bit for bit" "$got" "$want"
-ok "and its calibration is complete" wait_for 3 sh -c '[ "$(cat '"$DEV"'/in_magn_calibration_auto_status)" = 3 ]'
+ok "and its calibration is stable (level 4)" wait_for 3 sh -c '[ "$(cat '"$DEV"'/in_magn_calibration_auto_status)" = 4 ]'
+like "restore says what the file held" "$out" \
+	"restored iio:device[0-9]+ calibration from $f: level 4 \(stable\) \(saved: imported from the board's EEPROM\)"
 is "accel offsets from parameters 27..29" \
 	"$(cat "$DEV"/in_accel_{x,y,z}_calibbias | tr '\n' ' ')" "-47 -15 46 "
+like "status: the chip holds the imported calibration" "$(sentral-warmstart status)" \
+	$'\nrestored: +yes: the chip holds the saved calibration'
+
+# A stable calibration replaces the import: it records none to judge by.
+out=$(sentral-warmstart save 2>&1)
+like "the next save replaces the import" "$out" \
+	"saved iio:device[0-9]+ calibration to $f: stable, and the saved calibration \(imported from the board's EEPROM\) is not"
+is "now judged stable, at level 4, with no score" "$(ws_header "$f")" "2 4 2 0"
 
 rm -rf "$work"
 done_testing

@@ -4,7 +4,8 @@
 #
 # The udev rule (no systemd: RUN+= path) in one boot: nothing to restore at
 # the first probe; after calibrate + save, a re-probe of a power-cycled chip
-# restores it (status 3 without motion, parameters equal to the file); a
+# restores it (level 4, stable, without motion, parameters equal to the
+# file, and status says the chip holds it); a
 # corrupted file is refused at probe with the message in the kernel log,
 # the chip left alone and the file moved aside, after which the next good
 # calibration is saved and restored. The watcher the rule starts without
@@ -38,10 +39,12 @@ payload=$(file_payload_words "$f")
 
 ok "replug (power cycle + bind): udev restores at probe" replug "$client"
 udevadm settle --timeout=10
-is "in_magn_calibration_auto_status 3 without motion" "$(cal_status)" 3
+is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_level)" 4
 is "chip parameters 1..35 equal the saved payload" "$(sim_ws_params)" "$payload"
 like "the kernel log tells it" "$(dmesg)" \
-	"sentral-warmstart\[[0-9]+\]: restored iio:device[0-9]+ calibration from $f"
+	"sentral-warmstart\[[0-9]+\]: restored iio:device[0-9]+ calibration from $f: level 4 \(stable\) \(saved: level 4 \(stable\), no score\)"
+like "status: the chip holds the saved calibration" "$(sentral-warmstart status)" \
+	$'\nrestored: +yes: the chip holds the saved calibration'
 
 # Issue 12.3: a refused file must not end saving.
 cp "$f" /tmp/good.ws
@@ -51,7 +54,8 @@ ok "replug with a corrupted file" replug "$client"
 udevadm settle --timeout=10
 like "refused at probe, the check named in the kernel log" "$(dmesg)" \
 	"sentral-warmstart\[[0-9]+\]: error: $f: refused: bad CRC .*; the chip was not touched; moved aside to $f.refused for inspection"
-is "chip untouched: not calibrated" "$(cal_status)" 0
+is "chip untouched: not calibrated (level 2)" "$(cal_level)" 2
+is "(the chip's own calibration status 0: nothing learned)" "$(dbg_get state cal_status)" 0
 isnt_payload=$(words 18 23 "$(sim_ws_params)")
 ok "chip untouched: magnetic coefficients are not the file's" \
 	test "$isnt_payload" != "$(words 18 23 "$payload")"
@@ -59,18 +63,18 @@ ok "the refused file is kept, byte for byte" cmp "$f.refused" /tmp/corrupt.ws
 nok "and no longer in the way" test -e "$f"
 out=$(sentral-warmstart save 2>&1)
 is "before calibration, the stop action's save: the policy says no, exit 0" $? 0
-like "saying why" "$out" "not saving .*calibration incomplete"
+like "saying why" "$out" "not saving .*calibration not stable \(level 2 \(calibrating\); needs 4\)"
 ok "the chip learns a new calibration" calibrate_by_motion
 ok "the stop action's save writes it" sentral-warmstart --device "$key" save --if-present
 ok "a new, valid file in its place" sentral-warmstart show "$f"
 ok "replug: the new calibration is restored at probe" replug "$client"
 udevadm settle --timeout=10
-is "calibration_status 3 without motion" "$(cal_status)" 3
+is "level 4 (stable) without motion" "$(cal_level)" 4
 is "the chip holds the new file's payload" "$(sim_ws_params)" "$(file_payload_words "$f")"
 
 # Without systemd the rule starts the watcher too (watch --daemon): detached
 # from udev, one per chip, it saves by itself once the calibration is
-# complete, and exits when the device goes away.
+# stable, and exits when the device goes away.
 watchfile=/run/sentral-warmstart/$key.watch
 watcher() { cat "$watchfile" 2>/dev/null; }
 alive() { [ -n "$1" ] && kill -0 "$1" 2>/dev/null; }
@@ -92,7 +96,7 @@ like "replacing the old one" "$(dmesg)" \
 	"sentral-warmstart\[$w2\]: watch: replacing the watcher of $key \(pid $w1\)"
 ok "the old one stopped" wait_for 10 gone "$w1"
 is "still one watcher for the chip" "$(watchers)" 1
-nok "nothing saved before the calibration is complete" test -e "$f"
+nok "nothing saved before the calibration is stable" test -e "$f"
 ok "the chip learns a calibration" calibrate_by_motion
 ok "the watcher saves it by itself within a poll (30 s)" wait_for 45 test -s "$f"
 ok "a valid file" sentral-warmstart show "$f"
@@ -104,7 +108,7 @@ like "saying why" "$(dmesg)" "sentral-warmstart\[$w2\]: error: .*stopped watchin
 echo "$client" >/sys/bus/i2c/drivers/em7180/bind
 wait_for 5 em7180_dir >/dev/null
 udevadm settle --timeout=10
-restored() { [ "$(cal_status)" = 3 ]; }
+restored() { [ "$(cal_level)" = 4 ]; }
 ok "bound again: restored at probe" wait_for 5 restored
 ok "and watched again" wait_for 10 new_watcher "$w2"
 w3=$(watcher)

@@ -99,6 +99,9 @@ static int watch_step(struct watch *w, struct sw_err *e)
 	if (ret == SW_EXIT_DEVICE)
 		return sw_err_set(e, ret, "%s", se.msg);
 	if (ret) {
+		/* A rise not judged yet (the blob unread): at the next look. */
+		if (rose)
+			w->last_level = -1;
 		look_failed(w, &se);
 		return SW_EXIT_OK;
 	}
@@ -127,8 +130,13 @@ static int watch_step(struct watch *w, struct sw_err *e)
 		w->written = true;
 		w->last_write = now;
 	}
-	/* A failed save (a full disk, another writer) is not the end. */
+	/*
+	 * A failed save (a full disk, another writer) is not the end: it
+	 * waits for the interval as a save held back does (without a score
+	 * nothing else would bring it back while the level stays 4).
+	 */
 	if (ret) {
+		w->pending = true;
 		sw_report(w->env, &se);
 		sw_note(w->env, "watch: trying again in %u s", w->o->interval_s);
 	}

@@ -39,14 +39,16 @@ json_field() {
 	sed -n "s/.*\"$1\":\"\\([^\"]*\\)\".*/\\1/p"
 }
 
-cal_status() {
+# The calibration level, in_magn_calibration_auto_status (4: stable).
+cal_level() {
 	cat "$(em7180_dir)/in_magn_calibration_auto_status"
 }
 
-# Stable (level 4) and, where the firmware has a score, 3% or better.
+# Stable (level 4) and, where the firmware has a score, 3% or better: the
+# em7180 device DIR (default: the only one).
 calibrated_good() {
-	local d
-	d=$(em7180_dir) || return 1
+	local d=${1:-}
+	[ -n "$d" ] || d=$(em7180_dir) || return 1
 	[ "$(cat "$d/in_magn_calibration_auto_status")" = 4 ] || return 1
 	[ ! -e "$d/in_magn_calibration_score" ] ||
 		awk '{ exit !($1 <= 3.0) }' "$d/in_magn_calibration_score"
@@ -82,4 +84,48 @@ chip_run() {
 	i2ctransfer -f -y "$bus" w4@0x28 0x55 0x1e 0x0a 0x0a &&
 		i2ctransfer -f -y "$bus" w2@0x28 0x54 0x00 &&
 		i2ctransfer -f -y "$bus" w2@0x28 0x34 0x01
+}
+
+# The firmware with (1) or without (0, a USFS board's) the application
+# note's calibration registers, as the driver finds it when it binds to
+# the I2C client CLIENT: unbind, set the simulator's knob, bind.
+set_layout() {
+	local client=$2
+	echo "$client" >/sys/bus/i2c/drivers/em7180/unbind || return 1
+	knob appnote_layout "$1" || return 1
+	echo "$client" >/sys/bus/i2c/drivers/em7180/bind || return 1
+	wait_for 5 em7180_dir >/dev/null
+}
+
+# The header of saved file FILE: "VERSION LEVEL JUDGEMENT RAW-SCORE"
+# (bytes 8-9, 16, 17 and 18-19: sentral-warmstart.8, FILE FORMAT).
+ws_header() {
+	python3 -c 'import struct, sys
+print(*struct.unpack_from("<H6xBBH", open(sys.argv[1], "rb").read(), 8))' "$1"
+}
+
+# ws_edit SRC DST OFFSET:FORMAT:VALUE...: a copy of saved file SRC at DST
+# with the field at each OFFSET (a struct format: <B, <H, <f...) set to
+# VALUE, or changed by it with +=VALUE, and the CRC fixed: what anyone who
+# may write the file can do. Parameter N is at offset 32 + 4 * (N - 1).
+ws_edit() {
+	python3 -c 'import struct, sys, zlib
+b = bytearray(open(sys.argv[1], "rb").read())
+for field in sys.argv[3:]:
+    off, fmt, val = field.split(":")
+    rel = val.startswith("+=")
+    val = val[2:] if rel else val
+    v = float(val) if fmt[-1] in "fd" else int(val, 0)
+    if rel:
+        v += struct.unpack_from(fmt, b, int(off))[0]
+    struct.pack_into(fmt, b, int(off), v)
+b[172:176] = struct.pack("<I", zlib.crc32(bytes(b[:172])))
+open(sys.argv[2], "wb").write(b)' "$@"
+}
+
+# ws_v1 SRC DST: saved file SRC as version 1 of the format has it (before
+# the level): calibration status 3 (complete), byte 17 0 and a score, here
+# 2.700 % (raw 33653, the simulated chip's at its true coefficients).
+ws_v1() {
+	ws_edit "$1" "$2" '8:<H:1' '16:<B:3' '17:<B:0' '18:<H:33653'
 }

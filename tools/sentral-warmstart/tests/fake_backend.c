@@ -83,6 +83,8 @@ static int f_read_blob(struct sw_backend *b, uint8_t *blob, struct sw_err *e)
 
 	if (gone(f, e))
 		return e->code;
+	if (f->fail_read)
+		return sw_err_set(e, f->fail_read, "fake: read failed");
 	f->reads++;
 	/* The chip holds the accel offsets in parameters 27..29. */
 	for (k = 0; k < 3; k++)

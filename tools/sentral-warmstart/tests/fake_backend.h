@@ -44,6 +44,7 @@ struct fake_be {
 	bool blob_follows_score;
 	int writes, reads;
 	int fail_write;			/* exit code write_blob returns */
+	int fail_read;			/* exit code read_blob returns */
 	/*
 	 * accel: output = bias + expected - offset (+ alternating noise);
 	 * offset is parameters 27..29 of the blob the fake reads and writes

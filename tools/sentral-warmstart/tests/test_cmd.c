@@ -2085,6 +2085,94 @@ static void test_watch_pending_dropped(void **state)
 	assert_int_equal(c->fb.reads, 3);
 }
 
+/* The lock held by another writer from 130 s to 200 s; learned at 130 s. */
+static void lock_130s_to_200s(struct fake_be *f)
+{
+	static int fd = -1;
+	struct sw_err e;
+
+	learn_at_130s(f);
+	sw_err_clear(&e);
+	if (f->clk->now_ms >= 130000 && f->clk->now_ms < 200000 && fd < 0) {
+		fd = sw_file_lock_open(f->data, true, &e);
+		assert_true(fd >= 0 && sw_file_lock_try(fd));
+	} else if (f->clk->now_ms >= 200000 && fd >= 0) {
+		close(fd);
+		fd = -1;
+	}
+}
+
+/*
+ * Without a score, a save that fails (here: another writer holds the lock
+ * for longer than a writer waits) is tried again once the write interval
+ * has passed, while the level stays 4: the level rose once, at 130 s,
+ * and the save at 150 s failed after waiting 30 s; tried again at 450 s.
+ */
+static void test_watch_stable_save_retried(void **state)
+{
+	static const struct fake_step steps[] = {
+		{ 0, 4, 0, 0 },
+		{ 100000, 2, 0, 0 },
+		{ 130000, 4, 0, 0 },
+	};
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	level_only(c);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	watch_defaults(c, steps, 3, 500000);
+	c->fb.on_chip_info = lock_130s_to_200s;
+	c->fb.data = c->path;
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
+	fflush(c->errf);
+	assert_int_equal(count(c->err, "has held it for 30 s"), 1);
+	assert_int_equal(count(out_text(c), "watch: trying again in 300 s"), 1);
+	assert_int_equal(count(strstr(out_text(c), "watching "),
+			       "saved iio:device0 calibration"), 1);
+	assert_non_null(strstr(out_text(c), "stable, and parameter 18 (mcoeffs[1]) moved"));
+	assert_true(load(c, &f));
+	assert_true(sw_blob_param(f.payload, 18) == 20.0f);
+	assert_true(c->clk.now_ms >= 450000);
+}
+
+/* The blob cannot be read from 140 s to 170 s; learned at 130 s. */
+static void no_blob_140s_to_170s(struct fake_be *f)
+{
+	learn_at_130s(f);
+	f->fail_read = f->clk->now_ms >= 140000 && f->clk->now_ms < 170000 ?
+		       SW_EXIT_IO : 0;
+}
+
+/*
+ * Without a score, the look at the blob after a rise to 4 that fails (a
+ * bus error) is reported and made again at the next poll: the save it
+ * finds waiting is made once the write interval has passed.
+ */
+static void test_watch_stable_look_retried(void **state)
+{
+	static const struct fake_step steps[] = {
+		{ 0, 2, 0, 0 },
+		{ 45000, 4, 0, 0 },
+		{ 100000, 2, 0, 0 },
+		{ 130000, 4, 0, 0 },
+	};
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	level_only(c);
+	watch_defaults(c, steps, 4, 400000);
+	c->fb.on_chip_info = no_blob_140s_to_170s;
+	assert_int_equal(watch(c), SW_EXIT_DEVICE);
+	fflush(c->errf);
+	assert_int_equal(count(c->err, "fake: read failed"), 1);
+	assert_int_equal(count(out_text(c), "watch: looking again every 30 s"), 1);
+	/* at 60 s (no file) and at 360 s, held back from the look at 180 s */
+	assert_int_equal(count(out_text(c), "saved iio:device0 calibration"), 2);
+	assert_non_null(strstr(out_text(c), "but the last write was 120 s ago: saving it in 180 s unless it changes"));
+	assert_true(load(c, &f));
+	assert_true(sw_blob_param(f.payload, 18) == 20.0f);
+}
+
 /*
  * Idle without a score: one look at the level a poll and nothing else;
  * the blob was read once, at the first look, where the level was 4.
@@ -2172,6 +2260,8 @@ int main(void)
 		T(test_calibrate_level_only),
 		T(test_watch_stable_pending),
 		T(test_watch_pending_dropped),
+		T(test_watch_stable_save_retried),
+		T(test_watch_stable_look_retried),
 		T(test_watch_idle_reads_level),
 	};
 
