@@ -4,7 +4,8 @@
 # sentral-warmstart's command line with the manners of i2c-tools and
 # coreutils (issue 33, item 3):
 # - --help and --version win over the rest of the line, and exit 0; each
-#   command's help lists its options, within 80 columns.
+#   command's help lists its options, within 80 columns;
+# - numbers are decimal, hexadecimal only after 0x.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -42,5 +43,14 @@ out=$(sentral-warmstart status --force 2>&1)
 is "status --force without --i2c: exit 64" $? 64
 like "said so, and what to try" "$out" \
 	"--force is an option of 'status' only with --i2c.*Try 'sentral-warmstart status --help'"
+
+# Numbers: decimal, a leading 0 no octal; hex after 0x.
+out=$(sentral-warmstart calibrate --timeout 08 --target-score 101 2>&1)
+is "--timeout 08 is taken (the error is the next option's): exit 64" $? 64
+like "naming --target-score" "$out" "--target-score: '101' is out of range \(0 to 100\)"
+# (bounded: a tool that took "+5" would watch for ever)
+out=$(timeout 10 sentral-warmstart watch --poll +5 2>&1)
+like "--poll +5: refused, naming the option" "$out" \
+	"--poll: '\+5' is not a number \(decimal, or hexadecimal after 0x\)"
 
 done_testing

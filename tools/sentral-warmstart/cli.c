@@ -5,7 +5,6 @@
  */
 #include <errno.h>
 #include <getopt.h>
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -126,8 +125,8 @@ static const struct opt {
 	  "restore: a missing file is not an error;\n"
 	  "save: a device that is gone is not an error" },
 	{ OPT_MAX_SCORE, 0, "max-score", "S", SAVING_CMDS, 0, false,
-	  "acceptable score in percent (default 5.0), where the\n"
-	  "firmware reports a score" },
+	  "acceptable score in percent, 0 to 100 (default 5.0),\n"
+	  "where the firmware reports a score" },
 	{ OPT_TARGET_SCORE, 0, "target-score", "S", CMD(SW_CMD_CALIBRATE), 0,
 	  false,
 	  "calibrate: stop at this score, 0 to 100 (default\n"
@@ -331,7 +330,9 @@ static void usage_all(FILE *f)
 	fputs("\nOptions:\n", f);
 	for (i = 0; i < NOPTS; i++)
 		put_lines(f, TEXT_COL, opts[i].help, opt_spec(f, &opts[i]));
-	fputc('\n', f);
+	fputs("\n"
+	      "Numbers are decimal, or hexadecimal after 0x; S and M are decimal (2.5).\n"
+	      "\n", f);
 	fputs(exit_status, f);
 	fputs("\nSee sentral-warmstart(8).\n", f);
 }
@@ -384,18 +385,30 @@ void sw_usage(FILE *f, enum sw_command cmd)
 		usage_cmd(f, cmd);
 }
 
+/*
+ * A decimal number for a percentage: digits with at most one '.', nothing
+ * else (strtod would also take " 5", "0x5", "1e1", "inf").
+ */
 static int parse_double(const char *opt, const char *s, double lo, double hi,
 			double *out, struct sw_err *e)
 {
-	char *end;
+	size_t digits = strspn(s, "0123456789");
+	const char *p = s + digits;
 	double v;
 
-	errno = 0;
-	v = strtod(s, &end);
-	if (errno || end == s || *end || !isfinite(v) || v < lo || v > hi)
+	if (*p == '.') {
+		p++;
+		digits += strspn(p, "0123456789");
+		p += strspn(p, "0123456789");
+	}
+	if (!digits || *p)
 		return sw_err_set(e, SW_EXIT_USAGE,
-				  "%s: '%s' is not a number between %g and %g",
-				  opt, s, lo, hi);
+				  "%s: '%s' is not a decimal number", opt, s);
+	v = strtod(s, NULL);
+	if (v < lo || v > hi)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "%s: '%s' is out of range (%g to %g)", opt, s,
+				  lo, hi);
 	*out = v;
 	return SW_EXIT_OK;
 }
@@ -404,14 +417,16 @@ static int parse_uint(const char *opt, const char *s, unsigned long lo,
 		      unsigned long hi, unsigned int *out, struct sw_err *e)
 {
 	unsigned long v;
-	char *end;
+	int err = sw_parse_number(s, hi, &v);
 
-	errno = 0;
-	v = strtoul(s, &end, 0);
-	if (errno || end == s || *end || *s == '-' || v < lo || v > hi)
+	if (err == EINVAL)
 		return sw_err_set(e, SW_EXIT_USAGE,
-				  "%s: '%s' is not a number between %lu and %lu",
-				  opt, s, lo, hi);
+				  "%s: '%s' is not a number (decimal, or hexadecimal after 0x)",
+				  opt, s);
+	if (err || v < lo)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "%s: '%s' is out of range (%lu to %lu)", opt, s,
+				  lo, hi);
 	*out = (unsigned int)v;
 	return SW_EXIT_OK;
 }

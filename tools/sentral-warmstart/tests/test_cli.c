@@ -182,6 +182,70 @@ static void expect_usage(const char *want, ...)
 }
 
 /*
+ * Issue 33.3: numbers are decimal, hexadecimal only after 0x. strtoul's
+ * base 0 refused "--timeout 08" and read "--poll 010" as 8 s, and took
+ * " 5" and "+5".
+ */
+static void test_numbers(void **state)
+{
+	struct sw_opts o;
+	struct sw_err e;
+
+	(void)state;
+	assert_int_equal(parse(&o, &e, "calibrate", "--timeout", "08", NULL),
+			 SW_EXIT_OK);
+	assert_int_equal(o.timeout_s, 8);
+	assert_int_equal(parse(&o, &e, "watch", "--poll", "010", "--interval",
+			       "0x3c", NULL), SW_EXIT_OK);
+	assert_int_equal(o.poll_s, 10);
+	assert_int_equal(o.interval_s, 60);
+	assert_int_equal(parse(&o, &e, "accel-cal", "--samples", "0X10",
+			       "--max-score", "05", NULL), SW_EXIT_OK);
+	assert_int_equal(o.samples, 16);
+	assert_true(o.max_score == 5.0);
+	assert_int_equal(parse(&o, &e, "watch", "--margin", ".5", NULL),
+			 SW_EXIT_OK);
+	assert_true(o.margin == 0.5);
+	assert_int_equal(parse(&o, &e, "calibrate", "--target-score", "2.",
+			 NULL), SW_EXIT_OK);
+	assert_true(o.target_score == 2.0);
+
+	expect_usage("--timeout: ' 5' is not a number (decimal, or hexadecimal after 0x)",
+		     "calibrate", "--timeout", " 5", NULL);
+	expect_usage("--timeout: '+5' is not a number", "calibrate",
+		     "--timeout", "+5", NULL);
+	expect_usage("--timeout: '-5' is not a number", "calibrate",
+		     "--timeout", "-5", NULL);
+	expect_usage("--timeout: '5s' is not a number", "calibrate",
+		     "--timeout", "5s", NULL);
+	expect_usage("--timeout: '0x' is not a number", "calibrate",
+		     "--timeout", "0x", NULL);
+	expect_usage("--timeout: '' is not a number", "calibrate",
+		     "--timeout", "", NULL);
+	expect_usage("--poll: '08.5' is not a number", "watch", "--poll",
+		     "08.5", NULL);
+	expect_usage("--samples: '99999999999999999999999' is out of range (1 to 10000)",
+		     "accel-cal", "--samples", "99999999999999999999999", NULL);
+	expect_usage("--interval: '0x100000000' is out of range (1 to 86400)",
+		     "watch", "--interval", "0x100000000", NULL);
+	expect_usage("--max-score: '0x5' is not a decimal number", "save",
+		     "--max-score", "0x5", NULL);
+	expect_usage("--max-score: '1e1' is not a decimal number", "save",
+		     "--max-score", "1e1", NULL);
+	expect_usage("--max-score: 'inf' is not a decimal number", "save",
+		     "--max-score", "inf", NULL);
+	expect_usage("--max-score: ' 5' is not a decimal number", "save",
+		     "--max-score", " 5", NULL);
+	expect_usage("--max-score: '.' is not a decimal number", "save",
+		     "--max-score", ".", NULL);
+	expect_usage("--target-score: '100.5' is out of range (0 to 100)",
+		     "calibrate", "--target-score", "100.5", NULL);
+	expect_usage("--margin: '1000000000000000000000000000000000000000' is out of range (0 to 100)",
+		     "watch", "--margin",
+		     "1000000000000000000000000000000000000000", NULL);
+}
+
+/*
  * Issue 33.3: --help and --version win over anything else on the line, as
  * in coreutils, even over a mistake; the first of them given wins. Before,
  * "--version extra" was "unknown command 'extra'", exit 64.
@@ -412,13 +476,13 @@ static void test_errors(void **state)
 		     "--interval", "60", NULL);
 	expect_usage("--margin is not an option of 'calibrate'", "calibrate",
 		     "--margin", "1", NULL);
-	expect_usage("--interval: '0' is not a number between 1 and 86400",
+	expect_usage("--interval: '0' is out of range (1 to 86400)",
 		     "watch", "--interval", "0", NULL);
-	expect_usage("--margin: '-1' is not a number between 0 and 100",
+	expect_usage("--margin: '-1' is not a decimal number",
 		     "watch", "--margin", "-1", NULL);
-	expect_usage("--poll: '0' is not a number between 1 and 3600",
+	expect_usage("--poll: '0' is out of range (1 to 3600)",
 		     "watch", "--poll", "0", NULL);
-	expect_usage("--poll: '3601' is not a number between 1 and 3600",
+	expect_usage("--poll: '3601' is out of range (1 to 3600)",
 		     "watch", "--poll", "3601", NULL);
 	expect_usage("--poll is not an option of 'save'", "save", "--poll",
 		     "5", NULL);
@@ -588,6 +652,7 @@ int main(void)
 		cmocka_unit_test(test_good),
 		cmocka_unit_test(test_end_of_options),
 		cmocka_unit_test(test_errors),
+		cmocka_unit_test(test_numbers),
 		cmocka_unit_test(test_help_wins),
 		cmocka_unit_test(test_help_width),
 		cmocka_unit_test(test_help_lists_options),
