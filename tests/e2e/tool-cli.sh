@@ -5,7 +5,10 @@
 # coreutils (issue 33, item 3):
 # - --help and --version win over the rest of the line, and exit 0; each
 #   command's help lists its options, within 80 columns;
-# - numbers are decimal, hexadecimal only after 0x.
+# - numbers are decimal, hexadecimal only after 0x;
+# - --i2c takes a bus number, the adapter's name or a path, and each gives
+#   the chip the same key; a name no adapter has, or several have, lists
+#   the buses.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -52,5 +55,37 @@ like "naming --target-score" "$out" "--target-score: '101' is out of range \(0 t
 out=$(timeout 10 sentral-warmstart watch --poll +5 2>&1)
 like "--poll +5: refused, naming the option" "$out" \
 	"--poll: '\+5' is not a number \(decimal, or hexadecimal after 0x\)"
+
+# --i2c BUS: a number, a name, a path; the key is the driver's whatever the form.
+for form in "$bus" "0$bus" "$name" "/dev/i2c-$bus"; do
+	out=$(sentral-warmstart --i2c "$form" --force key 2>&1)
+	is "--i2c '$form': the driver's key" "$out" "$driver_key"
+done
+mknod /tmp/i2c-node c 89 "$bus"
+is "--i2c a node of another name: the same key" \
+	"$(sentral-warmstart --i2c /tmp/i2c-node --force key 2>&1)" "$driver_key"
+json=$(sentral-warmstart --i2c "$name" --force status --json)
+is "status over --i2c $name: exit 0" $? 0
+like "the i2c backend on /dev/i2c-$bus" "$json" \
+	"^\\{\"device\":\"/dev/i2c-$bus@0x28\",\"backend\":\"i2c\","
+out=$(sentral-warmstart --i2c sentral --force status 2>&1)
+is "a name no adapter has (a prefix is no match): exit 69" $? 69
+like "listing the buses" "$out" \
+	"--i2c 'sentral': no bus of that name; the buses are .*$bus 'sentral-sim'"
+out=$(sentral-warmstart --i2c 4242 --force status 2>&1)
+is "a bus number without a node: exit 69" $? 69
+like "naming the node" "$out" "/dev/i2c-4242: No such file or directory"
+out=$(sentral-warmstart --i2c 1048576 status 2>&1)
+is "a bus number past i2c-dev's minors: exit 64" $? 64
+# Two adapters of one name, in a mount namespace of this command's own.
+out=$(unshare -m sh -c '
+	mount -t tmpfs cli /sys/class/i2c-dev &&
+	mkdir /sys/class/i2c-dev/i2c-'"$bus"' /sys/class/i2c-dev/i2c-99 &&
+	echo sentral-sim >/sys/class/i2c-dev/i2c-'"$bus"'/name &&
+	echo sentral-sim >/sys/class/i2c-dev/i2c-99/name &&
+	exec sentral-warmstart --i2c sentral-sim --force status' 2>&1)
+is "a name two adapters have: exit 69" $? 69
+like "which, and what to do" "$out" \
+	"--i2c 'sentral-sim': 2 buses have that name \($bus 'sentral-sim', 99 'sentral-sim'\): give the bus number instead"
 
 done_testing

@@ -77,7 +77,7 @@ int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 		struct sw_err *e);
 
 struct sw_i2c_opts {
-	const char *dev;	/* /dev/i2c-N */
+	const char *dev;	/* --i2c BUS: a number, a name or a path (i2cbus.h) */
 	unsigned int addr;	/* 7-bit, default 0x28 */
 	bool force;		/* even when a kernel driver is bound */
 };

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "i2cbus.h"
 #include "policy.h"
 
 enum {
@@ -100,9 +101,9 @@ static const struct opt {
 	{ OPT_DEVICE, 'd', "device", "NAME", CHIP_CMDS, 0, true,
 	  "em7180 IIO device: iio:deviceN, label, I2C client name\n"
 	  "(0-0028) or key (default: the only one present)" },
-	{ OPT_I2C, 0, "i2c", "DEV", I2C_CMDS, 0, true,
-	  "talk to the chip over i2c-dev (no driver bound): the\n"
-	  "adapter's i2c-dev node, such as /dev/i2c-1" },
+	{ OPT_I2C, 0, "i2c", "BUS", I2C_CMDS, 0, true,
+	  "talk to the chip over i2c-dev (no driver bound); BUS:\n"
+	  "a number (1), an adapter name or a path (/dev/i2c-1)" },
 	{ OPT_ADDRESS, 0, "address", "ADDR", I2C_CMDS, 0, true,
 	  "7-bit I2C address with --i2c (default 0x28)" },
 	{ OPT_STATE_DIR, 0, "state-dir", "DIR", CHIP_CMDS, 0, true,
@@ -280,7 +281,7 @@ static size_t synopsis(enum sw_command cmd, bool prefix, const char **words,
 			operand = commands[i].operand;
 	if (prefix && opt_of(OPT_DEVICE)->cmds & CMD(cmd))
 		words[n++] = opt_of(OPT_I2C)->cmds & CMD(cmd) ?
-			     "[--device NAME | --i2c DEV [--address ADDR]]" :
+			     "[--device NAME | --i2c BUS [--address ADDR]]" :
 			     "[--device NAME]";
 	if (prefix && opt_of(OPT_STATE_DIR)->cmds & CMD(cmd))
 		words[n++] = "[--state-dir DIR]";
@@ -302,7 +303,7 @@ static const char exit_status[] =
 	"  0 success   64 usage error\n"
 	"  65 saved file or EEPROM image refused by a check\n"
 	"  66 saved file or EEPROM image missing\n"
-	"  69 no, several, unusable or (watch) vanished device\n"
+	"  69 no, several, unusable or (watch) vanished device or I2C bus\n"
 	"  71 out of memory   72 state directory missing   74 I/O or bus error\n"
 	"  75 calibration incomplete, timed out or unverified\n"
 	"  77 refused: owner, mode or symbolic link of a file or directory\n"
@@ -314,7 +315,7 @@ static void usage_all(FILE *f)
 	char buf[NOPTS][40];
 	size_t i, n;
 
-	fputs("Usage: sentral-warmstart [--device NAME | --i2c DEV [--address ADDR]]\n"
+	fputs("Usage: sentral-warmstart [--device NAME | --i2c BUS [--address ADDR]]\n"
 	      "                         [--state-dir DIR] COMMAND [OPTIONS]\n"
 	      "       sentral-warmstart [COMMAND] --help\n"
 	      "\n"
@@ -532,7 +533,7 @@ static int option(int c, struct sw_opts *o, struct sw_err *e)
 		return SW_EXIT_OK;
 	case OPT_I2C:
 		o->i2c_dev = optarg;
-		return SW_EXIT_OK;
+		return sw_i2c_bus_check(optarg, e);
 	case OPT_ADDRESS:
 		return parse_uint("--address", optarg, 0x03, 0x77,
 				  &o->address, e);

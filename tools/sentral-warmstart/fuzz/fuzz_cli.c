@@ -75,6 +75,8 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 		abort();
 	if (o->device && o->i2c_dev)
 		abort();
+	if (o->i2c_dev && !*o->i2c_dev)
+		abort();
 	if (o->address < 0x03 || o->address > 0x77)
 		abort();
 	if (o->json && o->cmd != SW_CMD_STATUS && o->cmd != SW_CMD_CALIBRATE)

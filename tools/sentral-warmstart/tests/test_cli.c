@@ -246,6 +246,28 @@ static void test_numbers(void **state)
 }
 
 /*
+ * Issue 33.3: --i2c takes a bus number, a name or a path; the parser
+ * refuses only what no bus can be (i2cbus.h looks the name up).
+ */
+static void test_i2c_bus(void **state)
+{
+	struct sw_opts o;
+	struct sw_err e;
+
+	(void)state;
+	assert_int_equal(parse(&o, &e, "--i2c", "1", "status", NULL),
+			 SW_EXIT_OK);
+	assert_string_equal(o.i2c_dev, "1");
+	assert_int_equal(parse(&o, &e, "--i2c", "i2c-tiny-usb at bus 001 device 005",
+			       "key", NULL), SW_EXIT_OK);
+	assert_int_equal(parse(&o, &e, "--i2c", "1048575", "status", NULL),
+			 SW_EXIT_OK);
+	expect_usage("--i2c: bus '1048576' is out of range (0 to 1048575)",
+		     "--i2c", "1048576", "status", NULL);
+	expect_usage("--i2c is empty", "--i2c", "", "status", NULL);
+}
+
+/*
  * Issue 33.3: --help and --version win over anything else on the line, as
  * in coreutils, even over a mistake; the first of them given wins. Before,
  * "--version extra" was "unknown command 'extra'", exit 64.
@@ -653,6 +675,7 @@ int main(void)
 		cmocka_unit_test(test_end_of_options),
 		cmocka_unit_test(test_errors),
 		cmocka_unit_test(test_numbers),
+		cmocka_unit_test(test_i2c_bus),
 		cmocka_unit_test(test_help_wins),
 		cmocka_unit_test(test_help_width),
 		cmocka_unit_test(test_help_lists_options),
