@@ -8,7 +8,8 @@
 # - numbers are decimal, hexadecimal only after 0x;
 # - --i2c takes a bus number, the adapter's name or a path, and each gives
 #   the chip the same key; a name no adapter has, or several have, lists
-#   the buses.
+#   the buses;
+# - addresses from 0x08 to 0x77, and their errors, in hexadecimal.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -87,5 +88,20 @@ out=$(unshare -m sh -c '
 is "a name two adapters have: exit 69" $? 69
 like "which, and what to do" "$out" \
 	"--i2c 'sentral-sim': 2 buses have that name \($bus 'sentral-sim', 99 'sentral-sim'\): give the bus number instead"
+
+# Addresses: 0x08 to 0x77, the errors in hexadecimal.
+out=$(sentral-warmstart --i2c "$bus" --address 0x80 status 2>&1)
+is "--address 0x80: exit 64" $? 64
+like "out of range, in hex" "$out" "--address: 0x80 is out of range \(0x08-0x77\)"
+out=$(sentral-warmstart --i2c "$bus" --address 128 status 2>&1)
+like "--address 128: in hex too" "$out" "--address: 128 \(0x80\) is out of range \(0x08-0x77\)"
+out=$(sentral-warmstart --i2c "$bus" --address 7 status 2>&1)
+like "--address 7, reserved: refused" "$out" "--address: 7 \(0x07\) is out of range \(0x08-0x77\)"
+out=$(sentral-warmstart --i2c "$bus" --address 0x29 --force status 2>&1)
+is "--address 0x29, nothing there: exit 69" $? 69
+like "said in hex" "$out" "no device answers at 0x29"
+out=$(sentral-warmstart --i2c "$bus" --address 40 --force status --json)
+is "--address 40 is 0x28: exit 0" $? 0
+like "the chip at 0x28" "$out" "\"device\":\"/dev/i2c-$bus@0x28\""
 
 done_testing

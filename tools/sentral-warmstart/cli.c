@@ -5,6 +5,7 @@
  */
 #include <errno.h>
 #include <getopt.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -105,7 +106,8 @@ static const struct opt {
 	  "talk to the chip over i2c-dev (no driver bound); BUS:\n"
 	  "a number (1), an adapter name or a path (/dev/i2c-1)" },
 	{ OPT_ADDRESS, 0, "address", "ADDR", I2C_CMDS, 0, true,
-	  "7-bit I2C address with --i2c (default 0x28)" },
+	  "7-bit I2C address with --i2c, 0x08 to 0x77\n"
+	  "(default 0x28)" },
 	{ OPT_STATE_DIR, 0, "state-dir", "DIR", CHIP_CMDS, 0, true,
 	  "saved files (default " SW_STATE_DIR ")" },
 	{ OPT_FILE, 'f', "file", "F",
@@ -433,6 +435,33 @@ static int parse_uint(const char *opt, const char *s, unsigned long lo,
 }
 
 /*
+ * A 7-bit address as i2c-tools check one (i2cbusses.c, check_address()):
+ * 0x08 to 0x77, the addresses the I2C specification leaves to devices; the
+ * errors in hexadecimal, as addresses are written.
+ */
+static int parse_address(const char *s, unsigned int *out, struct sw_err *e)
+{
+	unsigned long v;
+	int err = sw_parse_number(s, UINT_MAX, &v);
+
+	if (err == EINVAL)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "--address: '%s' is not an address (hexadecimal after 0x, such as 0x28, else decimal)",
+				  s);
+	if (err || v < 0x08 || v > 0x77) {
+		if (!err && strncmp(s, "0x", 2) && strncmp(s, "0X", 2))
+			return sw_err_set(e, SW_EXIT_USAGE,
+					  "--address: %s (0x%02lx) is out of range (0x08-0x77)",
+					  s, v);
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "--address: %s is out of range (0x08-0x77)",
+				  s);
+	}
+	*out = (unsigned int)v;
+	return SW_EXIT_OK;
+}
+
+/*
  * getopt's complaint, naming the option itself. argv[optind - 1] is the
  * offending argument only when getopt has finished with it, which a long
  * option always is but an unknown letter inside a cluster ("-hx") is not:
@@ -535,8 +564,7 @@ static int option(int c, struct sw_opts *o, struct sw_err *e)
 		o->i2c_dev = optarg;
 		return sw_i2c_bus_check(optarg, e);
 	case OPT_ADDRESS:
-		return parse_uint("--address", optarg, 0x03, 0x77,
-				  &o->address, e);
+		return parse_address(optarg, &o->address, e);
 	case OPT_STATE_DIR:
 		o->state_dir = optarg;
 		return SW_EXIT_OK;

@@ -26,7 +26,7 @@ struct sw_opts {
 	enum sw_command cmd;
 	const char *device;	/* --device */
 	const char *i2c_dev;	/* --i2c BUS as given (i2cbus.h) */
-	unsigned int address;	/* --address, default 0x28 */
+	unsigned int address;	/* --address, 0x08..0x77, default 0x28 */
 	const char *state_dir;	/* --state-dir */
 	const char *file;	/* --file, or show's FILE */
 	const char *image;	/* import-board's IMAGE */

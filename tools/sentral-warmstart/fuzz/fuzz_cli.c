@@ -12,7 +12,7 @@
  *    into argv (or is the built-in state directory);
  *  - a successful parse is complete: a command (unless --help or
  *    --version, of which only one is set), show's FILE, values inside
- *    their documented ranges, no watch over --i2c,
+ *    their documented ranges (addresses 0x08-0x77), no watch over --i2c,
  *    each option only with a command that takes it (--no-save with
  *    accel-cal, --json with status and calibrate; --force without --i2c
  *    with save, restore, calibrate and import-board; nothing of show's
@@ -77,7 +77,7 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 		abort();
 	if (o->i2c_dev && !*o->i2c_dev)
 		abort();
-	if (o->address < 0x03 || o->address > 0x77)
+	if (o->address < 0x08 || o->address > 0x77)
 		abort();
 	if (o->json && o->cmd != SW_CMD_STATUS && o->cmd != SW_CMD_CALIBRATE)
 		abort();

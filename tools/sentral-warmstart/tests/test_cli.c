@@ -246,6 +246,49 @@ static void test_numbers(void **state)
 }
 
 /*
+ * Issue 33.3: addresses as i2c-tools take them, 0x08 to 0x77, and the
+ * errors in hexadecimal; 0x28 and 0x29 (the EM7180's two) still work.
+ */
+static void test_address(void **state)
+{
+	static const struct {
+		const char *arg;
+		unsigned int addr;
+	} good[] = {
+		{ "0x28", 0x28 }, { "0x29", 0x29 }, { "40", 0x28 },
+		{ "041", 0x29 }, { "0X08", 0x08 }, { "0x77", 0x77 },
+		{ "8", 0x08 },
+	};
+	struct sw_opts o;
+	struct sw_err e;
+	size_t i;
+
+	(void)state;
+	for (i = 0; i < sizeof(good) / sizeof(good[0]); i++) {
+		assert_int_equal(parse(&o, &e, "--i2c", "1", "--address",
+				       good[i].arg, "status", NULL),
+				 SW_EXIT_OK);
+		assert_int_equal(o.address, good[i].addr);
+	}
+	expect_usage("--address: 0x80 is out of range (0x08-0x77)", "--i2c",
+		     "1", "--address", "0x80", "status", NULL);
+	expect_usage("--address: 128 (0x80) is out of range (0x08-0x77)",
+		     "--i2c", "1", "--address", "128", "status", NULL);
+	expect_usage("--address: 0x03 is out of range (0x08-0x77)", "--i2c",
+		     "1", "--address", "0x03", "status", NULL);
+	expect_usage("--address: 7 (0x07) is out of range (0x08-0x77)",
+		     "--i2c", "1", "--address", "7", "status", NULL);
+	expect_usage("--address: 0x78 is out of range (0x08-0x77)", "--i2c",
+		     "1", "--address", "0x78", "status", NULL);
+	expect_usage("--address: 0x100000028 is out of range (0x08-0x77)",
+		     "--i2c", "1", "--address", "0x100000028", "status", NULL);
+	expect_usage("--address: 'zz' is not an address (hexadecimal after 0x, such as 0x28, else decimal)",
+		     "--i2c", "1", "--address", "zz", "status", NULL);
+	expect_usage("--address: '28h' is not an address", "--i2c", "1",
+		     "--address", "28h", "status", NULL);
+}
+
+/*
  * Issue 33.3: --i2c takes a bus number, a name or a path; the parser
  * refuses only what no bus can be (i2cbus.h looks the name up).
  */
@@ -675,6 +718,7 @@ int main(void)
 		cmocka_unit_test(test_end_of_options),
 		cmocka_unit_test(test_errors),
 		cmocka_unit_test(test_numbers),
+		cmocka_unit_test(test_address),
 		cmocka_unit_test(test_i2c_bus),
 		cmocka_unit_test(test_help_wins),
 		cmocka_unit_test(test_help_width),
