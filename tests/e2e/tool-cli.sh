@@ -9,7 +9,9 @@
 # - --i2c takes a bus number, the adapter's name or a path, and each gives
 #   the chip the same key; a name no adapter has, or several have, lists
 #   the buses;
-# - addresses from 0x08 to 0x77, and their errors, in hexadecimal.
+# - addresses from 0x08 to 0x77, and their errors, in hexadecimal;
+# - a broken link under /sys/bus/iio/devices, a missing directory and one
+#   the user may not read are told apart.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -103,5 +105,27 @@ like "said in hex" "$out" "no device answers at 0x29"
 out=$(sentral-warmstart --i2c "$bus" --address 40 --force status --json)
 is "--address 40 is 0x28: exit 0" $? 0
 like "the chip at 0x28" "$out" "\"device\":\"/dev/i2c-$bus@0x28\""
+
+# Why the IIO devices cannot be listed, each in a mount namespace.
+out=$(unshare -m sh -c '
+	mount -t tmpfs cli /sys/bus/iio/devices &&
+	ln -s ../../../devices/gone/iio:device0 /sys/bus/iio/devices/iio:device0 &&
+	exec sentral-warmstart status' 2>&1)
+is "a broken link under /sys/bus/iio/devices: exit 69" $? 69
+like "named as such" "$out" \
+	"iio:device0: /sys/bus/iio/devices/iio:device0 is a broken link"
+out=$(unshare -m sh -c '
+	mount -t tmpfs cli /sys/bus/iio && exec sentral-warmstart status' 2>&1)
+is "no /sys/bus/iio/devices: exit 69" $? 69
+like "said to be missing" "$out" \
+	"no IIO devices at all \(/sys/bus/iio/devices is missing\)"
+out=$(unshare -m sh -c '
+	mount -t tmpfs -o mode=0700 cli /sys/bus/iio/devices &&
+	exec setpriv --reuid=65534 --regid=65534 --clear-groups \
+		sentral-warmstart status' 2>&1)
+is "a directory the user may not read: exit 69" $? 69
+like "said so" "$out" \
+	"cannot list the IIO devices: /sys/bus/iio/devices: Permission denied"
+ok "with the real sysfs, status works" sentral-warmstart status
 
 done_testing

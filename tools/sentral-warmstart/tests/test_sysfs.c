@@ -1,17 +1,22 @@
 // SPDX-License-Identifier: GPL-2.0-only
 /*
  * Unit tests: finding things in sysfs, on fake trees: the bus of --i2c
- * BUS (i2cbus.h).
+ * BUS (i2cbus.h) and why libiio could not list the IIO devices
+ * (sw_iio_scan_err()).
  */
+#include <errno.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <cmocka.h>
 
+#include "backend.h"
 #include "i2cbus.h"
 
 struct tree {
@@ -184,6 +189,105 @@ static void test_i2c_bus_long_list(void **state)
 	assert_non_null(strstr(e.msg, "40 buses have that name (0 'Synopsys"));
 }
 
+static int scan_err(struct tree *t, const char *rel, int err,
+		    struct sw_err *e)
+{
+	sw_err_clear(e);
+	return sw_iio_scan_err(e, at(t, rel), err);
+}
+
+/*
+ * Issue 33.3: why libiio could not list the devices. Before, any ENOENT
+ * was "/sys/bus/iio/devices is missing", also for a broken link in it.
+ */
+static void test_iio_scan_err(void **state)
+{
+	struct tree *t = *state;
+	char want[512];
+	struct sw_err e;
+
+	assert_int_equal(scan_err(t, "devices", ENOENT, &e), SW_EXIT_DEVICE);
+	snprintf(want, sizeof(want),
+		 "no IIO devices at all (%s is missing): is the em7180_i2c driver loaded? without a driver use --i2c",
+		 at(t, "devices"));
+	assert_string_equal(e.msg, want);
+
+	mkdir_p(t, "devices/iio:device0");
+	write_file(t, "devices/iio:device0/name", "em7180\n");
+	assert_int_equal(symlink("../../gone/iio:device1",
+				 at(t, "devices/iio:device1")), 0);
+	assert_int_equal(scan_err(t, "devices", ENOENT, &e), SW_EXIT_DEVICE);
+	snprintf(want, sizeof(want),
+		 "iio:device1: %s is a broken link: the device went away while the tool looked (unbound or unplugged), or sysfs is damaged",
+		 at(t, "devices/iio:device1"));
+	assert_string_equal(e.msg, want);
+	assert_int_equal(unlink(at(t, "devices/iio:device1")), 0);
+
+	/* libiio stats every entry of a device's directory too */
+	assert_int_equal(symlink("../../gone/of_node",
+				 at(t, "devices/iio:device0/of_node")), 0);
+	assert_int_equal(scan_err(t, "devices", ENOENT, &e), SW_EXIT_DEVICE);
+	snprintf(want, sizeof(want), "iio:device0: %s is a broken link",
+		 at(t, "devices/iio:device0/of_node"));
+	assert_string_equal(e.msg, want);
+	assert_int_equal(unlink(at(t, "devices/iio:device0/of_node")), 0);
+
+	/* nothing wrong now: it changed under libiio */
+	assert_int_equal(scan_err(t, "devices", ENOENT, &e), SW_EXIT_DEVICE);
+	snprintf(want, sizeof(want),
+		 "cannot list the IIO devices in %s: No such file or directory (they changed while the tool looked: try again)",
+		 at(t, "devices"));
+	assert_string_equal(e.msg, want);
+	assert_int_equal(scan_err(t, "devices", ENOMEM, &e), SW_EXIT_OSERR);
+}
+
+/*
+ * Permission: as a user that may not read a device's directory (root may
+ * read anything, so a child becomes nobody when run by root).
+ */
+static void test_iio_scan_err_permission(void **state)
+{
+	struct tree *t = *state;
+	char want[2][512], got[512] = "";
+	int fds[2], status, i;
+	struct sw_err e;
+	ssize_t n;
+	pid_t pid;
+
+	assert_int_equal(chmod(t->root, 0755), 0);
+	mkdir_p(t, "devices/iio:device0");
+	mkdir_p(t, "locked");
+	assert_int_equal(chmod(at(t, "devices/iio:device0"), 0), 0);
+	assert_int_equal(chmod(at(t, "locked"), 0), 0);
+	snprintf(want[0], sizeof(want[0]),
+		 "iio:device0: cannot list %s: Permission denied",
+		 at(t, "devices/iio:device0"));
+	snprintf(want[1], sizeof(want[1]),
+		 "cannot list the IIO devices: %s: Permission denied",
+		 at(t, "locked"));
+	for (i = 0; i < 2; i++) {
+		assert_int_equal(pipe(fds), 0);
+		pid = fork();
+		assert_true(pid >= 0);
+		if (!pid) {
+			close(fds[0]);
+			if (geteuid() == 0 &&
+			    (setgid(65534) < 0 || setuid(65534) < 0))
+				_exit(2);
+			scan_err(t, i ? "locked" : "devices", EACCES, &e);
+			_exit(write(fds[1], e.msg, strlen(e.msg)) < 0);
+		}
+		close(fds[1]);
+		n = read(fds[0], got, sizeof(got) - 1);
+		close(fds[0]);
+		assert_int_equal(waitpid(pid, &status, 0), pid);
+		assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+		assert_true(n > 0);
+		got[n] = '\0';
+		assert_string_equal(got, want[i]);
+	}
+}
+
 int main(void)
 {
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
@@ -191,6 +295,8 @@ int main(void)
 		T(test_i2c_bus),
 		T(test_i2c_bus_no_class),
 		T(test_i2c_bus_long_list),
+		T(test_iio_scan_err),
+		T(test_iio_scan_err_permission),
 	};
 
 	return cmocka_run_group_tests_name("sysfs", tests, NULL, NULL);
