@@ -11,7 +11,8 @@
 #   the buses;
 # - addresses from 0x08 to 0x77, and their errors, in hexadecimal;
 # - a broken link under /sys/bus/iio/devices, a missing directory and one
-#   the user may not read are told apart.
+#   the user may not read are told apart;
+# - show and key print JSON.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -127,5 +128,35 @@ is "a directory the user may not read: exit 69" $? 69
 like "said so" "$out" \
 	"cannot list the IIO devices: /sys/bus/iio/devices: Permission denied"
 ok "with the real sysfs, status works" sentral-warmstart status
+
+# show --json and key --json.
+like "key --help: --json" "$(sentral-warmstart key --help)" $'\n      --json  '
+ok "save a file" sentral-warmstart save --force --file /tmp/cli.ws
+json=$(sentral-warmstart show --json /tmp/cli.ws)
+is "show --json: exit 0" $? 0
+is "one line" "$(echo "$json" | wc -l)" 1
+is "its members, the parameters as the file holds them" "$(python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+print(d["file"], d["version"], d["size"], d["product_id"], d["judgement"],
+      len(d["parameters"]), d["parameters"][26]["number"],
+      "accel_lsb" in d["parameters"][26], "accel_lsb" in d["parameters"][0])
+print(" ".join("0x%08x" % p["raw"] for p in d["parameters"]))' "$json")" \
+	"/tmp/cli.ws 2 176 128 $(sentral-warmstart show /tmp/cli.ws |
+		sed -n 's/^judgement: *\([a-z]*\) .*/\1/p') 35 27 True False
+$(file_payload_words /tmp/cli.ws | sed 's/ $//')"
+truncate -s 150 /tmp/cli.ws
+out=$(sentral-warmstart show --json /tmp/cli.ws 2>/dev/null)
+is "a refused file: exit 65" $? 65
+is "and nothing on standard output" "$out" ""
+json=$(sentral-warmstart key --json)
+is "key --json: exit 0" $? 0
+is "device, backend, key, unit and file" "$json" \
+	"{\"device\":\"$(basename "$DEV")\",\"backend\":\"driver\",\"key\":\"$driver_key\",\"unit\":\"$(systemd-escape "$driver_key" | sed 's/\\/\\\\/g')\",\"file\":\"/var/lib/sentral-warmstart/$driver_key.ws\"}"
+json=$(sentral-warmstart --i2c "$bus" --force key --json)
+like "over --i2c: the i2c backend, the same key" "$json" \
+	"^\\{\"device\":\"/dev/i2c-$bus@0x28\",\"backend\":\"i2c\",\"key\":\"$driver_key\","
+out=$(sentral-warmstart key --json --udev 2>&1)
+is "key --json --udev: exit 64" $? 64
 
 done_testing

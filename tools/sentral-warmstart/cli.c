@@ -120,9 +120,10 @@ static const struct opt {
 	  "another chip version, import over a saved file,\n"
 	  "use --i2c while a kernel driver is bound" },
 	{ OPT_JSON, 0, "json", NULL,
-	  CMD(SW_CMD_STATUS) | CMD(SW_CMD_CALIBRATE), 0, false,
-	  "status: one JSON object instead of text; calibrate:\n"
-	  "one per line" },
+	  CMD(SW_CMD_STATUS) | CMD(SW_CMD_CALIBRATE) | CMD(SW_CMD_SHOW) |
+	  CMD(SW_CMD_KEY), 0, false,
+	  "status, show, key: one JSON object instead of text;\n"
+	  "calibrate: one per line" },
 	{ OPT_IF_PRESENT, 0, "if-present", NULL,
 	  CMD(SW_CMD_RESTORE) | CMD(SW_CMD_SAVE), 0, false,
 	  "restore: a missing file is not an error;\n"
@@ -527,6 +528,9 @@ static int check_option_use(const struct sw_opts *o, const bool *seen,
 				  "--%s is not an option of '%s'",
 				  opts[i].name, sw_command_name(o->cmd));
 	}
+	if (o->json && o->udev)
+		return sw_err_set(e, SW_EXIT_USAGE,
+				  "key: --json and --udev exclude each other");
 	return SW_EXIT_OK;
 }
 

@@ -14,9 +14,9 @@
  *    --version, of which only one is set), show's FILE, values inside
  *    their documented ranges (addresses 0x08-0x77), no watch over --i2c,
  *    each option only with a command that takes it (--no-save with
- *    accel-cal, --json with status and calibrate; --force without --i2c
- *    with save, restore, calibrate and import-board; nothing of show's
- *    but FILE);
+ *    accel-cal, --json with status, calibrate, show and key, not with
+ *    --udev; --force without --i2c with save, restore, calibrate and
+ *    import-board; nothing of show's but FILE and --json);
  *  - a second parse of the same argv gives the same result (getopt's
  *    hidden state is reset);
  *  - a message about an option names the option ("-x", "--name"), not
@@ -79,7 +79,10 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 		abort();
 	if (o->address < 0x08 || o->address > 0x77)
 		abort();
-	if (o->json && o->cmd != SW_CMD_STATUS && o->cmd != SW_CMD_CALIBRATE)
+	if (o->json && (o->udev || (o->cmd != SW_CMD_STATUS &&
+				    o->cmd != SW_CMD_CALIBRATE &&
+				    o->cmd != SW_CMD_SHOW &&
+				    o->cmd != SW_CMD_KEY)))
 		abort();
 	if (o->force && !o->i2c_dev && o->cmd != SW_CMD_SAVE &&
 	    o->cmd != SW_CMD_RESTORE && o->cmd != SW_CMD_CALIBRATE &&

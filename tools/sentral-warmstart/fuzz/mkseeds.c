@@ -152,6 +152,7 @@ static void cli_seeds(void)
 	ARGV("i2c-name", "--i2c\0sentral-sim\0--address\0" "40\0key");
 	ARGV("i2c-number", "--i2c\0" "010\0--force\0status");
 	ARGV("numbers", "watch\0--poll\0" "010\0--interval\0" "0x3c\0--margin\0.5");
+	ARGV("show-json", "show\0/tmp/x.ws\0--json");
 	ARGV("help-anywhere", "status\0--bogus\0--timeout\0x\0--help");
 	ARGV("version-extra", "--version\0extra");
 	ARGV("command-help", "accel-cal\0-h");

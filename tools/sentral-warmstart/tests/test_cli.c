@@ -529,6 +529,9 @@ static void test_help_lists_options(void **state)
 	/* What the issue named, in so many words. */
 	assert_int_equal(takes(SW_CMD_ACCEL_CAL, opt_index("--max-score")),
 			 BY_ITSELF | WITH_I2C);
+	assert_int_equal(takes(SW_CMD_SHOW, opt_index("--json")), BY_ITSELF);
+	assert_int_equal(takes(SW_CMD_KEY, opt_index("--json")),
+			 BY_ITSELF | WITH_I2C);
 	assert_int_equal(takes(SW_CMD_STATUS, opt_index("--force")), WITH_I2C);
 	assert_int_equal(takes(SW_CMD_WATCH, opt_index("--i2c")), 0);
 }
@@ -616,6 +619,8 @@ static void test_errors(void **state)
 		     NULL);
 	expect_usage("--state-dir is not an option of 'show'", "show", "a.ws",
 		     "--state-dir", "/s", NULL);
+	expect_usage("key: --json and --udev exclude each other", "key",
+		     "--json", "--udev", NULL);
 	expect_usage("--state-dir is empty", "--state-dir", "", "status", NULL);
 }
 
