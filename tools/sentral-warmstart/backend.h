@@ -73,11 +73,19 @@ struct sw_iio_opts {
 int sw_iio_err(struct sw_err *e, const char *name, const char *op,
 	       const char *attr, int err, bool dir_gone);
 
+/*
+ * libiio failed to list the IIO devices in sysfs (/sys/bus/iio/devices but
+ * in tests) with errno err: say which of them, and why, from a look of our
+ * own at what libiio reads: the directory missing, an entry that is a
+ * broken link or cannot be read (SW_EXIT_DEVICE, or SW_EXIT_OSERR).
+ */
+int sw_iio_scan_err(struct sw_err *e, const char *sysfs, int err);
+
 int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 		struct sw_err *e);
 
 struct sw_i2c_opts {
-	const char *dev;	/* /dev/i2c-N */
+	const char *dev;	/* --i2c BUS: a number, a name or a path (i2cbus.h) */
 	unsigned int addr;	/* 7-bit, default 0x28 */
 	bool force;		/* even when a kernel driver is bound */
 };

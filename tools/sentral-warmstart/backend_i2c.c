@@ -17,6 +17,7 @@
 #include <fcntl.h>
 #include <libudev.h>
 #include <i2c/smbus.h>
+#include <limits.h>
 #include <linux/i2c-dev.h>
 #include <linux/i2c.h>
 #include <stdlib.h>
@@ -28,6 +29,7 @@
 #include <unistd.h>
 
 #include "backend.h"
+#include "i2cbus.h"
 #include "level.h"
 
 #define REG_MAG		0x12
@@ -540,25 +542,31 @@ static int adapter_key(dev_t rdev, unsigned int addr, char *key, size_t len,
 int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
 		struct sw_err *e)
 {
-	char client[64];
+	char client[64], dev[PATH_MAX];
 	unsigned int bus;
 	struct i2c_be *ib;
 	struct stat st;
 	uint8_t id;
 	int fd, ret;
 
-	fd = open(o->dev, O_RDWR | O_CLOEXEC);
+	ret = sw_i2c_bus_path(o->dev, SW_I2C_DEV_CLASS, dev, sizeof(dev), e);
+	if (ret)
+		return ret;
+	fd = open(dev, O_RDWR | O_CLOEXEC);
 	if (fd < 0)
 		return sw_err_set(e, errno == ENOENT ? SW_EXIT_DEVICE : SW_EXIT_IO,
-				  "%s: %s%s", o->dev, strerror(errno),
+				  "%s: %s%s", dev, strerror(errno),
 				  errno == ENOENT ? " (is the i2c-dev module loaded?)" : "");
-	/* The node's own number, whatever it is called or links to. */
+	/*
+	 * The node's own number, whatever it is called or links to: the
+	 * key below comes from it, the same for every way of naming the bus.
+	 */
 	if (fstat(fd, &st) < 0 || !S_ISCHR(st.st_mode) ||
 	    major(st.st_rdev) != I2C_DEV_MAJOR) {
 		close(fd);
 		return sw_err_set(e, SW_EXIT_USAGE,
 				  "--i2c %s: not an i2c-dev character device (major %d)",
-				  o->dev, I2C_DEV_MAJOR);
+				  dev, I2C_DEV_MAJOR);
 	}
 	bus = minor(st.st_rdev);
 	snprintf(client, sizeof(client), "%u-%04x", bus, o->addr);
@@ -578,10 +586,10 @@ int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
 			if (err == EBUSY && !o->force)
 				return sw_err_set(e, SW_EXIT_DEVICE,
 						  "a kernel driver is bound to %s (0x%02x on %s); use the driver (omit --i2c), unbind it with 'echo %s > /sys/bus/i2c/devices/%s/driver/unbind', or pass --force",
-						  client, o->addr, o->dev, client,
+						  client, o->addr, dev, client,
 						  client);
 			return sw_err_set(e, SW_EXIT_IO, "%s: selecting 0x%02x: %s",
-					  o->dev, o->addr, strerror(errno));
+					  dev, o->addr, strerror(errno));
 		}
 	}
 	if (i2c_bus_read(fd, o->addr, REG_PRODUCT_ID, &id, 1) < 0) {
@@ -589,14 +597,14 @@ int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
 
 		close(fd);
 		return sw_err_set(e, SW_EXIT_DEVICE,
-				  "%s: no device answers at 0x%02x: %s", o->dev,
+				  "%s: no device answers at 0x%02x: %s", dev,
 				  o->addr, strerror(err));
 	}
 	if (id != EM7180_PRODUCT_ID) {
 		close(fd);
 		return sw_err_set(e, SW_EXIT_DEVICE,
 				  "%s: device at 0x%02x is not an EM7180 (ProductID 0x%02x, expected 0x%02x)",
-				  o->dev, o->addr, id, EM7180_PRODUCT_ID);
+				  dev, o->addr, id, EM7180_PRODUCT_ID);
 	}
 	ib = calloc(1, sizeof(*ib));
 	if (!ib) {
@@ -605,7 +613,9 @@ int sw_i2c_open(const struct sw_i2c_opts *o, struct sw_backend **out,
 	}
 	ib->b.ops = &i2c_ops;
 	ib->b.kind = "i2c";
-	snprintf(ib->b.name, sizeof(ib->b.name), "%s@0x%02x", o->dev, o->addr);
+	/* Room for "@0x77": a long path is cut, the address never. */
+	snprintf(ib->b.name, sizeof(ib->b.name), "%.*s@0x%02x",
+		 (int)sizeof(ib->b.name) - 6, dev, o->addr & 0x7f);
 	ret = adapter_key(st.st_rdev, o->addr, ib->b.key, sizeof(ib->b.key), e);
 	if (ret) {
 		close(fd);

@@ -690,12 +690,8 @@ int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 
 	*out = NULL;
 	ctx = iio_create_local_context();
-	if (!ctx && errno == ENOENT)
-		return sw_err_set(e, SW_EXIT_DEVICE,
-				  "no IIO devices at all (" IIO_SYSFS " is missing): is the em7180_i2c driver loaded? without a driver use --i2c");
 	if (!ctx)
-		return sw_err_set(e, SW_EXIT_DEVICE,
-				  "cannot scan IIO devices: %s", strerror(errno));
+		return sw_iio_scan_err(e, IIO_SYSFS, errno);
 	u = udev_new();
 	if (!u) {
 		iio_context_destroy(ctx);

@@ -19,13 +19,14 @@ enum sw_command {
 	SW_CMD_KEY,
 	SW_CMD_WATCH,
 	SW_CMD_IMPORT_BOARD,
+	SW_NCMDS
 };
 
 struct sw_opts {
 	enum sw_command cmd;
 	const char *device;	/* --device */
-	const char *i2c_dev;	/* --i2c */
-	unsigned int address;	/* --address, default 0x28 */
+	const char *i2c_dev;	/* --i2c BUS as given (i2cbus.h) */
+	unsigned int address;	/* --address, 0x08..0x77, default 0x28 */
 	const char *state_dir;	/* --state-dir */
 	const char *file;	/* --file, or show's FILE */
 	const char *image;	/* import-board's IMAGE */
@@ -45,16 +46,27 @@ struct sw_opts {
 	double margin;		/* watch --margin: improvement, percent points */
 	/* set by watch: a good saved file is replaced only by margin better */
 	bool improve_only;
-	bool help;
-	bool version;
+	bool help;		/* --help: the command's help, or all (no command) */
+	bool version;		/* --version; of the two only the first is set */
 };
 
 /*
  * Parse argv into o. Returns SW_EXIT_OK, or SW_EXIT_USAGE with e->msg
  * saying what is wrong. Options may come before or after the command.
+ * --help and --version anywhere before "--" win over anything else on the
+ * line, even what is wrong with it: then SW_EXIT_OK, o->help or o->version
+ * set (the first of them given), and o->cmd the command, if one was named
+ * before anything went wrong.
  */
 int sw_parse_args(int argc, char **argv, struct sw_opts *o, struct sw_err *e);
 
-void sw_usage(FILE *f);
+/*
+ * --help: all commands and options (SW_CMD_NONE), or one command's
+ * synopsis and every option it takes, within 80 columns.
+ */
+void sw_usage(FILE *f, enum sw_command cmd);
+
+/* "status", "accel-cal", ...; "?" for SW_CMD_NONE. */
+const char *sw_command_name(enum sw_command cmd);
 
 #endif

@@ -1099,23 +1099,96 @@ out:
 	return ret;
 }
 
+/* key --json: device, backend, key, unit (null: too long), file. */
+static void key_json(FILE *out, const struct sw_backend *b,
+		     const struct sw_opts *o, const char *unit)
+{
+	char path[4096];
+
+	sw_file_path(o, b, path, sizeof(path));
+	fprintf(out, "{\"device\":");
+	sw_json_str(out, b->name);
+	fprintf(out, ",\"backend\":\"%s\",\"key\":", b->kind);
+	sw_json_str(out, b->key);
+	fprintf(out, ",\"unit\":");
+	if (unit)
+		sw_json_str(out, unit);
+	else
+		fprintf(out, "null");
+	fprintf(out, ",\"file\":");
+	sw_json_str(out, path);
+	fprintf(out, "}\n");
+}
+
 int sw_cmd_key(struct sw_backend *b, const struct sw_opts *o,
 	       struct sw_env *env, struct sw_err *e)
 {
 	char unit[SW_KEY_MAX * 4];
+	bool unit_ok = sw_key_unit_escape(b->key, unit, sizeof(unit)) &&
+		       strlen(unit) <= 255 - strlen("sentral-warmstart-restore@.service");
 
+	if (o->json) {
+		key_json(env->out, b, o, unit_ok ? unit : NULL);
+		return SW_EXIT_OK;
+	}
 	if (!o->udev) {
 		fprintf(env->out, "%s\n", b->key);
 		return SW_EXIT_OK;
 	}
-	if (!sw_key_unit_escape(b->key, unit, sizeof(unit)) ||
-	    strlen(unit) > 255 - strlen("sentral-warmstart-restore@.service"))
+	if (!unit_ok)
 		return sw_err_set(e, SW_EXIT_DEVICE,
 				  "%s: key %s is too long for a systemd unit name",
 				  b->name, b->key);
 	fprintf(env->out, "SENTRAL_WARMSTART_KEY=%s\nSENTRAL_WARMSTART_UNIT=%s\n",
 		b->key, unit);
 	return SW_EXIT_OK;
+}
+
+/*
+ * show --json: one object, the members status --json gives a saved file
+ * (its "saved" object) and the header and parameters show prints.
+ */
+static void show_json(FILE *out, const char *path, const struct sw_file *f,
+		      const uint8_t *buf, size_t len)
+{
+	int n;
+
+	fprintf(out, "{\"file\":");
+	sw_json_str(out, path);
+	fprintf(out, ",\"version\":%d,\"size\":%zu,\"crc32\":%u", f->version,
+		len, sw_get_le32(buf + SW_FILE_SIZE - 4));
+	fprintf(out, ",\"product_id\":%u,\"revision_id\":%u,\"rom_version\":%u,\"ram_version\":%u",
+		f->chip.product_id, f->chip.revision_id, f->chip.rom_version,
+		f->chip.ram_version);
+	if (f->version == SW_FILE_VERSION_1)
+		fprintf(out, ",\"status\":%d", f->state);
+	else
+		fprintf(out, ",\"status\":null");
+	if (f->judgement == SW_JUDGED_NONE)
+		fprintf(out, ",\"level\":null,\"level_name\":null");
+	else
+		fprintf(out, ",\"level\":%d,\"level_name\":\"%s\"",
+			sw_file_level(f), sw_level_name(sw_file_level(f)));
+	fprintf(out, ",\"judgement\":\"%s\"", sw_judgement_name(f->judgement));
+	if (f->judgement == SW_JUDGED_SCORE)
+		fprintf(out, ",\"calibration_score\":%.3f,\"calibration_score_raw\":%u",
+			sw_score_pct(f->score_raw), f->score_raw);
+	else
+		fprintf(out, ",\"calibration_score\":null,\"calibration_score_raw\":null");
+	fprintf(out, ",\"saved_at\":%llu,\"parameters\":[",
+		(unsigned long long)f->saved_at);
+	for (n = 1; n <= SW_NPARAMS; n++) {
+		/* 9 digits give a float32 back exactly; the file holds no NaN. */
+		fprintf(out, "%s{\"number\":%d,\"name\":\"%s\",\"raw\":%u,\"value\":%.9g",
+			n > 1 ? "," : "", n, sw_param_name(n),
+			sw_get_le32(f->payload + 4 * (n - 1)),
+			(double)sw_blob_param(f->payload, n));
+		if (n >= SW_PARAM_ACCEL_X && n < SW_PARAM_ACCEL_X + 3)
+			fprintf(out, ",\"accel_lsb\":%d",
+				sw_g_to_lsb(sw_blob_param(f->payload, n)));
+		fputc('}', out);
+	}
+	fprintf(out, "]}\n");
 }
 
 int sw_cmd_show(const struct sw_opts *o, struct sw_env *env,
@@ -1141,6 +1214,10 @@ int sw_cmd_show(const struct sw_opts *o, struct sw_env *env,
 	if (c != SW_CHECK_OK)
 		return sw_err_set(e, SW_EXIT_FILE, "%s: refused: %s (%s)",
 				  o->file, sw_check_name(c), detail);
+	if (o->json) {
+		show_json(out, o->file, &f, buf, len);
+		return SW_EXIT_OK;
+	}
 	fmt_time(f.saved_at, when, sizeof(when));
 	fprintf(out, "file:                %s\n", o->file);
 	fprintf(out, "format:              %s version %d, %zu bytes, CRC-32 0x%08x ok\n",

@@ -47,13 +47,16 @@ int sw_cmd_save(struct sw_backend *b, const struct sw_opts *o,
 		struct sw_env *env, struct sw_err *e);
 int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 		   struct sw_env *env, struct sw_err *e);
+/* Check o->file and print it: text, or with --json one object. */
 int sw_cmd_show(const struct sw_opts *o, struct sw_env *env,
 		struct sw_err *e);
 int sw_cmd_calibrate(struct sw_backend *b, const struct sw_opts *o,
 		     struct sw_env *env, struct sw_err *e);
 /*
  * The chip's key; with --udev the udev properties SENTRAL_WARMSTART_KEY and
- * SENTRAL_WARMSTART_UNIT (the key escaped as a unit instance name).
+ * SENTRAL_WARMSTART_UNIT (the key escaped as a unit instance name); with
+ * --json one object: device, backend, key, unit (null when too long for a
+ * unit name) and file (the saved file's path).
  */
 int sw_cmd_key(struct sw_backend *b, const struct sw_opts *o,
 	       struct sw_env *env, struct sw_err *e);

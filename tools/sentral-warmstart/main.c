@@ -98,16 +98,16 @@ int main(int argc, char **argv)
 	ret = sw_parse_args(argc, argv, &o, &e);
 	if (ret) {
 		sw_report(&env, &e);
-		fprintf(stderr, "Try 'sentral-warmstart --help'.\n");
+		fprintf(stderr, "Try 'sentral-warmstart %s%s--help'.\n",
+			o.cmd ? sw_command_name(o.cmd) : "", o.cmd ? " " : "");
 		return ret;
 	}
-	if (o.help) {
-		sw_usage(stdout);
-		return SW_EXIT_OK;
-	}
-	if (o.version) {
-		printf("sentral-warmstart %s\n", SW_VERSION);
-		return SW_EXIT_OK;
+	if (o.help || o.version) {
+		if (o.help)
+			sw_usage(stdout, o.cmd);
+		else
+			printf("sentral-warmstart %s\n", SW_VERSION);
+		return fflush(stdout) ? SW_EXIT_IO : SW_EXIT_OK;
 	}
 	ret = run(&o, &env, &e);
 	if (ret)

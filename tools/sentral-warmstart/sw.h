@@ -61,6 +61,14 @@ uint16_t sw_score_raw(double pct);
  */
 bool sw_parse_score(const char *text, uint16_t *raw);
 
+/*
+ * A whole number as a user writes it on the command line: decimal, or
+ * hexadecimal after "0x" (a leading 0 is decimal, not octal); no sign,
+ * space or suffix. Returns 0, EINVAL when s is no such number, ERANGE when
+ * it is above max.
+ */
+int sw_parse_number(const char *s, unsigned long max, unsigned long *out);
+
 /* A score is a fit error: 0 % or more. A raw value below 0x8000 is a bad read. */
 static inline bool sw_score_raw_valid(uint16_t raw)
 {

@@ -2,6 +2,7 @@
 /*
  * sentral-warmstart: small helpers shared by every part of the tool.
  */
+#include <errno.h>
 #include <limits.h>
 #include <math.h>
 #include <signal.h>
@@ -114,6 +115,39 @@ bool sw_parse_score(const char *text, uint16_t *raw)
 		return false;
 	*raw = sw_score_raw(pct);
 	return true;
+}
+
+int sw_parse_number(const char *s, unsigned long max, unsigned long *out)
+{
+	unsigned long v = 0, base = 10, d;
+	const char *p = s;
+	bool over = false;
+
+	if (p[0] == '0' && (p[1] == 'x' || p[1] == 'X')) {
+		base = 16;
+		p += 2;
+	}
+	if (!*p)
+		return EINVAL;
+	for (; *p; p++) {
+		if (*p >= '0' && *p <= '9')
+			d = (unsigned long)(*p - '0');
+		else if (base == 16 && *p >= 'a' && *p <= 'f')
+			d = (unsigned long)(*p - 'a' + 10);
+		else if (base == 16 && *p >= 'A' && *p <= 'F')
+			d = (unsigned long)(*p - 'A' + 10);
+		else
+			return EINVAL;
+		/* Past max, only the syntax of the rest still matters. */
+		if (over || d > max || v > (max - d) / base)
+			over = true;
+		else
+			v = v * base + d;
+	}
+	if (over)
+		return ERANGE;
+	*out = v;
+	return 0;
 }
 
 float sw_blob_param(const uint8_t *blob, int n)

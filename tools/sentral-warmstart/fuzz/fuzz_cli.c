@@ -11,8 +11,12 @@
  *  - it does not reorder or change argv, and every string it keeps points
  *    into argv (or is the built-in state directory);
  *  - a successful parse is complete: a command (unless --help or
- *    --version), show's FILE, values inside their documented ranges,
- *    no watch over --i2c, --no-save with accel-cal only;
+ *    --version, of which only one is set), show's FILE, values inside
+ *    their documented ranges (addresses 0x08-0x77), no watch over --i2c,
+ *    each option only with a command that takes it (--no-save with
+ *    accel-cal, --json with status, calibrate, show and key, not with
+ *    --udev; --force without --i2c with save, restore, calibrate and
+ *    import-board; nothing of show's but FILE and --json);
  *  - a second parse of the same argv gives the same result (getopt's
  *    hidden state is reset);
  *  - a message about an option names the option ("-x", "--name"), not
@@ -49,6 +53,8 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 	    !in_argv(o->state_dir, argc, argv))
 		abort();
 	/* --help and --version skip the checks: nothing else runs. */
+	if (o->help && o->version)
+		abort();
 	if (o->help || o->version)
 		return;
 	if (!*o->state_dir || (o->file && !*o->file))
@@ -69,7 +75,20 @@ static void check_opts(const struct sw_opts *o, int argc, char **argv)
 		abort();
 	if (o->device && o->i2c_dev)
 		abort();
-	if (o->address < 0x03 || o->address > 0x77)
+	if (o->i2c_dev && !*o->i2c_dev)
+		abort();
+	if (o->address < 0x08 || o->address > 0x77)
+		abort();
+	if (o->json && (o->udev || (o->cmd != SW_CMD_STATUS &&
+				    o->cmd != SW_CMD_CALIBRATE &&
+				    o->cmd != SW_CMD_SHOW &&
+				    o->cmd != SW_CMD_KEY)))
+		abort();
+	if (o->force && !o->i2c_dev && o->cmd != SW_CMD_SAVE &&
+	    o->cmd != SW_CMD_RESTORE && o->cmd != SW_CMD_CALIBRATE &&
+	    o->cmd != SW_CMD_IMPORT_BOARD)
+		abort();
+	if (o->cmd == SW_CMD_SHOW && in_argv(o->state_dir, argc, argv))
 		abort();
 	if (!(o->max_score >= 0 && o->max_score <= 100) ||
 	    !(o->target_score >= 0 && o->target_score <= 100))

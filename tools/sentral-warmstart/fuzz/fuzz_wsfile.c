@@ -8,7 +8,8 @@
  *  - it accepts only a file of exactly SW_FILE_SIZE bytes, and whatever it
  *    accepts re-encodes to the identical bytes (nothing is lost or
  *    normalised, so a restore writes what was saved);
- *  - `show` succeeds exactly when decode does;
+ *  - `show` succeeds exactly when decode does; with --json it prints one
+ *    line, one object with every parameter and no "nan" or "inf";
  *  - `restore` (against the fake chip of the unit tests) writes the chip
  *    exactly when the file decodes and matches the chip (with --force:
  *    when it decodes), and then writes the file's payload; a file it
@@ -76,6 +77,34 @@ static void setup(struct fake_be *fb, struct fake_clock *clk,
 	sw_err_clear(e);
 }
 
+static void check_show_json(struct sw_opts *o, struct sw_env *env,
+			    enum sw_file_check c)
+{
+	char *out = NULL;
+	size_t n = 0;
+	struct sw_err e;
+	int ret;
+
+	env->out = open_memstream(&out, &n);
+	if (!env->out)
+		abort();
+	o->json = true;
+	sw_err_clear(&e);
+	ret = sw_cmd_show(o, env, &e);
+	fclose(env->out);
+	env->out = devnull;
+	o->json = false;
+	if ((ret == SW_EXIT_OK) != (c == SW_CHECK_OK))
+		abort();
+	if (ret != SW_EXIT_OK ? n != 0 :
+	    strncmp(out, "{\"file\":", 8) || n < 4 ||
+	    strcmp(out + n - 3, "]}\n") || strchr(out, '\n') != out + n - 1 ||
+	    !strstr(out, "{\"number\":35,") || strstr(out, "nan") ||
+	    strstr(out, "inf"))
+		abort();
+	free(out);
+}
+
 static void check_commands(const uint8_t *buf, size_t len,
 			   enum sw_file_check c, const struct sw_file *f)
 {
@@ -99,6 +128,7 @@ static void check_commands(const uint8_t *buf, size_t len,
 	if ((ret == SW_EXIT_OK) != (c == SW_CHECK_OK) ||
 	    (ret != SW_EXIT_OK && ret != SW_EXIT_FILE))
 		abort();
+	check_show_json(&o, &env, c);
 
 	/* Restore, from the state directory: the chip's key is the name. */
 	setup(&fb, &clk, &env, &o, &e);

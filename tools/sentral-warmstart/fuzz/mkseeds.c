@@ -149,6 +149,13 @@ static void cli_seeds(void)
 	ARGV("end-of-options", "show\0--\0--json");
 	ARGV("missing-arg", "save\0--file");
 	ARGV("unknown", "status\0-x");
+	ARGV("i2c-name", "--i2c\0sentral-sim\0--address\0" "40\0key");
+	ARGV("i2c-number", "--i2c\0" "010\0--force\0status");
+	ARGV("numbers", "watch\0--poll\0" "010\0--interval\0" "0x3c\0--margin\0.5");
+	ARGV("show-json", "show\0/tmp/x.ws\0--json");
+	ARGV("help-anywhere", "status\0--bogus\0--timeout\0x\0--help");
+	ARGV("version-extra", "--version\0extra");
+	ARGV("command-help", "accel-cal\0-h");
 }
 
 int main(int argc, char **argv)
