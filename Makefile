@@ -18,6 +18,8 @@
 #                     (DEB_ARCH=arm64: cross-built, in build/deb-arm64/)
 #   make dist         the release tarball build/sentral-VERSION.tar.gz of the
 #                     committed tree (HEAD); it builds the .debs without git
+#   make release      build/release/: the tarball, the .debs for amd64, arm64
+#                     and armhf built from it, SHA256SUMS
 #   make system-check install the packages in a Debian image, boot it under QEMU
 
 KDIR     ?= /lib/modules/$(shell uname -r)/build
@@ -101,23 +103,31 @@ overlay:
 	$(MAKE) -C boards/raspberrypi
 
 # Built from a copy of the source files (tracked or new, not ignored), so
-# that the checkout stays clean; lintian must find nothing to warn about.
-# DEB_ARCH=arm64: cross-built for that architecture into build/deb-arm64/
-# (tests/kernel/cross-deb installs what that needs).
+# that the checkout stays clean: the source package (.dsc, .tar.xz) and the
+# .debs; lintian must find nothing down to its pedantic tags, or an
+# override in debian/ that says why. DEB_ARCH=arm64: the .debs alone,
+# cross-built for that architecture into build/deb-arm64/
+# (tests/kernel/cross-deb installs what that needs). DEB_TARBALL=FILE:
+# built from that release tarball (make dist) instead (make release).
 DEB_OUT = build/deb$(if $(DEB_ARCH),-$(DEB_ARCH))
 deb:
 	tests/system/prepare --deb
 	rm -rf $(DEB_OUT) && mkdir -p $(DEB_OUT)/src
+ifeq (,$(DEB_TARBALL))
 	git ls-files -z --cached --others --exclude-standard | \
 		tar -c --null -T - --ignore-failed-read | tar -x -C $(DEB_OUT)/src
-	cd $(DEB_OUT)/src && dpkg-buildpackage $(if $(DEB_ARCH),-a $(DEB_ARCH) -Pcross) -us -uc -b
-	lintian --fail-on error,warning $(DEB_OUT)/*.changes
+else
+	tar -xzf $(DEB_TARBALL) -C $(DEB_OUT)/src --strip-components=1
+endif
+	cd $(DEB_OUT)/src && dpkg-buildpackage $(if $(DEB_ARCH),-a $(DEB_ARCH) -Pcross -b,-F) -us -uc
+	lintian --pedantic -I --fail-on error,warning,info,pedantic $(DEB_OUT)/*.changes
 
 # The release tarball: the committed tree (HEAD, not uncommitted changes)
 # under sentral-VERSION/, VERSION the newest entry of debian/changelog.
 # Nothing in its build needs git: unpacked anywhere, `dpkg-buildpackage
 # -us -uc -b` in it builds the .debs (tests/kernel/dist checks it).
-DIST_VERSION = $(shell sed -n '1s/^[^(]*(\([^)]*\)).*/\1/p' debian/changelog)
+DIST_VERSION = $(shell git show HEAD:debian/changelog 2>/dev/null | \
+	sed -n '1s/^[^(]*(\([^)]*\)).*/\1/p')
 dist:
 	@test -n "$(DIST_VERSION)" || { echo "make dist: no version in debian/changelog"; exit 1; }
 	@git diff --quiet HEAD -- 2>/dev/null || \
@@ -126,6 +136,33 @@ dist:
 	git archive --format=tar.gz --prefix=sentral-$(DIST_VERSION)/ \
 		-o build/sentral-$(DIST_VERSION).tar.gz HEAD
 	@echo "build/sentral-$(DIST_VERSION).tar.gz"
+
+# The release, HEAD's: into RELEASE_DIR (build/release/) the tarball of
+# make dist, the packages built from it (make deb DEB_TARBALL=: amd64, with
+# lintian) and cross-built for RELEASE_ARCHES (tests/kernel/cross-deb, as
+# make cross does: arm64 and armhf, with the overlay), without the debug
+# symbols' packages, and SHA256SUMS of them all. Any architecture missing
+# fails it (cross-deb skips one whose index the mirror serves incomplete).
+RELEASE_DIR ?= build/release
+RELEASE_ARCHES ?= arm64 armhf
+HOST_ARCH = $(shell dpkg --print-architecture)
+release: dist
+	@git diff --quiet HEAD -- && test -z "$$(git ls-files --others --exclude-standard)" || \
+		echo "make release: uncommitted changes are not in the release (it is HEAD)"
+	rm -rf $(RELEASE_DIR) && mkdir -p $(RELEASE_DIR)
+	$(MAKE) deb DEB_TARBALL=$(CURDIR)/build/sentral-$(DIST_VERSION).tar.gz
+	$(if $(filter-out $(HOST_ARCH),$(RELEASE_ARCHES)),DEB_TARBALL=$(CURDIR)/build/sentral-$(DIST_VERSION).tar.gz \
+		tests/kernel/cross-deb $(filter-out $(HOST_ARCH),$(RELEASE_ARCHES)))
+	cp build/sentral-$(DIST_VERSION).tar.gz build/deb/em7180-dkms_$(DIST_VERSION)_all.deb \
+		build/deb/sentral-warmstart_$(DIST_VERSION)_$(HOST_ARCH).deb $(RELEASE_DIR)/
+	cp build/deb/em7180-overlay_$(DIST_VERSION)_$(HOST_ARCH).deb $(RELEASE_DIR)/ 2>/dev/null || true
+	@for a in $(filter-out $(HOST_ARCH),$(RELEASE_ARCHES)); do \
+		cp build/deb-$$a/sentral-warmstart_$(DIST_VERSION)_$$a.deb \
+			build/deb-$$a/em7180-overlay_$(DIST_VERSION)_$$a.deb $(RELEASE_DIR)/ || \
+			{ echo "make release: no $$a packages (build/deb-$$a.log)"; exit 1; }; \
+	done
+	cd $(RELEASE_DIR) && sha256sum -- * >SHA256SUMS
+	@echo "$(RELEASE_DIR):" && ls $(RELEASE_DIR)
 
 # The packages installed in a Debian 12 image and booted under QEMU with
 # systemd on the stock 6.1 and 6.12 kernels (builds the packages itself);
@@ -146,4 +183,4 @@ distclean: clean
 	rm -rf build
 
 .PHONY: all modules modules_install tool prepare uml kunit check check-long demo bench fuzz \
-	cross upstream overlay deb dist system-check install clean distclean
+	cross upstream overlay deb dist release system-check install clean distclean
