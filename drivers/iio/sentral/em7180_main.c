@@ -1488,6 +1488,15 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
+	/*
+	 * Before the first parameter transfer, whose end may fail and ask
+	 * for a recovery; its teardown runs before the unbind action, which
+	 * a recovery would undo.
+	 */
+	ret = em7180_health_init(data);
+	if (ret)
+		return ret;
+
 	/* Streaming works without: calibbias reads fail until a transfer */
 	scoped_guard(mutex, &data->lock)
 		ret = em7180_accel_offset_fetch(data);
@@ -1498,10 +1507,6 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;
 	indio_dev->modes = INDIO_DIRECT_MODE;
-
-	ret = em7180_health_init(data);
-	if (ret)
-		return ret;
 
 	if (data->irq) {
 		ret = em7180_trigger_probe(indio_dev, data->irq);
