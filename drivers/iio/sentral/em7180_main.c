@@ -1665,6 +1665,12 @@ int em7180_chip_resume(struct em7180_data *data)
 	ret = em7180_chip_restore(data, &lost, &rom, &ram);
 	if (ret && ret != -ETIMEDOUT && ret != -ENODEV)
 		ret = em7180_chip_restore(data, &lost, &rom, &ram);
+	/*
+	 * Its last write ended any transfer left open, which the recovery
+	 * dropped at suspend was to end: the next recovery owes it nothing.
+	 */
+	if (!ret)
+		data->xfer_stuck = false;
 
 	return ret;
 }
@@ -1682,10 +1688,11 @@ static int em7180_suspend(struct device *dev)
 		return ret;
 	if (data->irq)
 		disable_irq(data->irq);
-	flush_delayed_work(&data->recover_work);
+	em7180_recover_stop(data);
 
 	ret = em7180_chip_suspend(data);
 	if (ret) {
+		em7180_recover_start(data);
 		if (data->irq)
 			enable_irq(data->irq);
 		em7180_resume_triggering(indio_dev);
@@ -1700,6 +1707,8 @@ static int em7180_resume(struct device *dev)
 	struct em7180_data *data = iio_priv(indio_dev);
 	int ret;
 
+	/* A restore that fails asks for a recovery */
+	em7180_recover_start(data);
 	ret = em7180_chip_resume(data);
 	if (data->irq)
 		enable_irq(data->irq);
