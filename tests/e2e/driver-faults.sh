@@ -280,6 +280,30 @@ ok "bound after the sweep" bound
 find_dev
 ok "chip running after the sweep" chip_idle
 
+# Both tries of the write that ends probe's parameter transfer (the
+# offsets' read, last of probe's transactions: bit 7 clear) NACKed. The
+# sweep's single NACK is absorbed by the retry; two leave the transfer
+# open and ask for a recovery, from inside probe: its work item must be
+# ready by then, and end the transfer.
+ok "unbind" unbind
+t0=$(dbg_get stats transactions)
+ok "a clean probe" bind
+last=$(($(dbg_get stats transactions) - t0))
+ok "unbind" unbind
+dmesg -c >/dev/null
+knob nack_run 2
+knob nack_at "$last"
+ok "probe with both tries of its transfer's end NACKed binds" bind
+ok "the NACKs fired" nack_fired
+knob nack_run 1
+nacks=$((nacks + 2))
+like "the offsets' read failed" "$(dmesg)" "cannot read the accelerometer offsets: -6"
+ok "the recovery ends the transfer: chip running" wait_for 5 chip_idle
+is "nothing amiss logged" "$(dmesg | grep -E 'WARNING|BUG|ODEBUG|Oops')" ""
+find_dev
+ok "a save works" save
+ok "and is right" saved_ok
+
 # The same through a module reload
 ok "unload em7180_i2c" modprobe -d "$SENTRAL_MODROOT" -r em7180_i2c
 knob nack_at 1

@@ -4,8 +4,8 @@
 # The em7180 driver going away and coming back: unbind during a capture (the
 # reader ends, the device returns and captures again), what an unbind
 # leaves (the chip quiet and running where its supplies stay on, also when
-# the unbind waits for the interrupt thread to restore a chip that reset
-# itself), unbind while a
+# the unbind waits for the restore of a chip that reset itself, or when
+# that restore fails and asks for another), unbind while a
 # 35-parameter calibration_data read or write is in flight (the chip is left out of
 # parameter-transfer mode; save and restore work after the rebind), files
 # held open across an unload, the simulated bus unloaded under a capture, and
@@ -324,11 +324,11 @@ ok "chip idle" chip_idle
 
 # -- Unbind while the chip resets itself -------------------------------------
 # Last: the chip loses what it learned since power-on.
-# Teardown: an unbind while the interrupt thread restores a chip that
-# reset itself (a 1.5 s firmware upload) returns only once the thread is
-# done (free_irq() waits for it), and the quieting comes after the restore:
-# nothing the thread does outlives the unbind or undoes it, and nothing is
-# logged amiss.
+# Teardown: an unbind while the driver restores a chip that reset itself
+# (a 1.5 s firmware upload) returns only once the restore is done (the
+# unbind waits for the recovery's work item), and the quieting comes after
+# the restore: nothing the recovery does outlives the unbind or undoes it,
+# and nothing is logged amiss.
 CLIENT=$(basename "$(readlink -f "$DEV/..")")
 knob upload_ms 1500
 dmesg -c >/dev/null
@@ -345,6 +345,46 @@ is "unbound after the reset: HostControl run" "$(dbg_get state host_run)" 1
 is "unbound after the reset: no event enabled" "$(enable_events)" 00
 is "unbound after the reset: INT low" "$(dbg_get state int)" 0
 knob upload_ms 10
+ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
+ok "the device is back and reads" wait_for 5 device_reads
+DEV=$(em7180_dir)
+
+# -- Unbind while a recovery queues another ---------------------------------
+# A restore whose parameter transfer cannot be ended asks for one more
+# recovery, to end it. Unbound meanwhile, the driver waits for the restore
+# in progress and leaves none to run after the device is freed: nothing
+# touches the chip once the unbind returned (a use after free would; the
+# harness fails on a WARNING, an oops or a KASAN report too).
+# A warm start known to the driver: the restore writes 35 parameters,
+# 3.5 s at 100 ms each (the offsets alone took too short a time to arm
+# the NACKs in, on a loaded machine).
+ok "a save" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
+latency=$(cat "$SIM_DBG/ack_latency_us")
+knob upload_ms 2000
+knob ack_latency_us 100000
+dmesg -c >/dev/null
+knob chip_reset 1
+# The recovery waits for the firmware upload; the unbind waits for it.
+sleep 0.5
+sh -c "echo $CLIENT > $DRV/unbind" &
+pid=$!
+ok "the recovery's restore transfer begins" wait_for 10 in_transfer
+ok "while the unbind waits" kill -0 $pid
+# Its next transaction and the four that end the transfer
+knob nack_run 5
+knob nack_at 1
+ends "the unbind returns" $pid 15
+is "the NACKs fired" "$(cat "$SIM_DBG/nack_at")" 0
+knob nack_run 1
+like "the restore failed" "$(dmesg)" "cannot restore the chip after its reset: -6"
+t0=$(dbg_get stats transactions)
+# The recovery it asked for would come 50 ms to 1 s later
+sleep 2
+is "no bus access after the unbind" "$(dbg_get stats transactions)" "$t0"
+is "nothing amiss logged" "$(dmesg | grep -E 'WARNING|BUG|Oops|ODEBUG|KASAN')" ""
+ok "unbound: running, not in transfer mode" chip_idle
+knob upload_ms 10
+knob ack_latency_us "$latency"
 ok "rebind" sh -c "echo $CLIENT > $DRV/bind"
 ok "the device is back and reads" wait_for 5 device_reads
 DEV=$(em7180_dir)

@@ -5,8 +5,9 @@
 # /sys/power/pm_test "devices" (the devices suspend and resume, no wake-up
 # source needed): the algorithm running after a sleep, the calibration
 # learned since boot and the offsets back after a power loss in sleep, a
-# standby the chip never confirms, other firmware after the sleep, and a
-# capture that goes on across one.
+# standby the chip never confirms, other firmware after the sleep, a
+# capture that goes on across one, and a recovery in progress when the
+# system goes to sleep.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tests/lib/em7180.sh"
 
@@ -14,6 +15,10 @@ TMP=$(mktemp -d)
 
 chip_idle() {
 	[ "$(dbg_get state transfer)" = 0 ] && [ "$(dbg_get state running)" = 1 ]
+}
+
+in_transfer() {
+	[ "$(dbg_get state transfer)" = 1 ]
 }
 
 # One system sleep: the devices suspend, 1 s passes, they resume.
@@ -131,6 +136,54 @@ ok "the algorithm runs after it" chip_idle
 is "the offset is back" "$(dbg_get params 27)" 0xbcbbe447
 
 echo 0 >"$DEV/in_accel_x_calibbias"
+
+# A system sleep while the driver restores a chip that reset itself, the
+# restore's parameter transfer failing so that it cannot be ended: that
+# recovery asks for another. The suspend waits for the one in progress;
+# none may run until the resume, where it would take the chip out of
+# standby (on a bus that may be asleep too). Asleep for 3 s, a chip left
+# in standby makes no accelerometer sample at 100 Hz: those counted come
+# from the time after the resume, read without a fork.
+accel_made() {
+	local k v
+	while read -r k v; do
+		[ "$k" = accel ] && ACCEL=$v
+	done <"$SIM_DBG/samples"
+}
+
+echo 100 >"$DEV/in_accel_sampling_frequency"
+echo devices >/sys/power/pm_test
+echo 3 >/sys/module/suspend/parameters/pm_test_delay
+echo 1 >/sys/power/pm_print_times
+# A warm start known to the driver: the restore writes 35 parameters, 3.5 s
+ok "a save" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
+latency=$(cat "$SIM_DBG/ack_latency_us")
+knob ack_latency_us 100000
+dmesg -c >/dev/null
+knob chip_reset 1
+ok "the recovery's restore transfer begins" wait_for 5 in_transfer
+# A transaction of the transfer about 2 s later and the four that end it
+# NACKed: by then the suspend waits for the recovery.
+knob nack_run 5
+knob nack_at 50
+accel_made
+s0=$ACCEL
+slept=no
+echo freeze >/sys/power/state && slept=yes
+accel_made
+made=$((ACCEL - s0))
+is "a system sleep during the recovery" "$slept" yes
+is "the NACKs fired" "$(cat "$SIM_DBG/nack_at")" 0
+knob nack_run 1
+knob ack_latency_us "$latency"
+echo 0 >/sys/power/pm_print_times
+echo 0 >/sys/module/suspend/parameters/pm_test_delay
+like "the restore failed while the suspend waited for it" "$(dmesg)" \
+	"calling em7180_suspend.*cannot restore the chip after its reset: -6.*em7180_suspend.* returned 0"
+echo "# accelerometer samples made across the sleep: $made"
+ok "none while asleep: fewer than 50 ($made)" [ "$made" -lt 50 ]
+ok "the algorithm runs after it" chip_idle
+ok "a save works" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
 
 rm -rf "$TMP"
 done_testing

@@ -120,6 +120,28 @@ static inline int iio_push_to_buffers_with_ts(struct iio_dev *indio_dev,
 #endif
 
 /*
+ * Work items can be disabled since 6.10. Before, a cancel is the nearest:
+ * it refuses the queueing of the work item it waits for, but not a later
+ * one. The driver disables its recovery where little else queues it: on
+ * unbind, once the interrupt, the IIO device and the sensor bus adapter
+ * are gone, and for system sleep, with the interrupt off and tasks frozen
+ * (a transfer on the sensor bus could still ask for one there).
+ */
+#if KERNEL_VERSION(6, 10, 0) > LINUX_VERSION_CODE
+#include <linux/workqueue.h>
+
+static inline bool disable_delayed_work_sync(struct delayed_work *dwork)
+{
+	return cancel_delayed_work_sync(dwork);
+}
+
+static inline bool enable_delayed_work(struct delayed_work *dwork)
+{
+	return true;
+}
+#endif
+
+/*
  * 6.1 runs the KUnit suites of a module while it is still coming, before
  * its sysfs directory exists (6.12 runs them once it is live): a root
  * device registered by the suite then cannot link to its module.

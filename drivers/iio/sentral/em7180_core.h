@@ -217,6 +217,8 @@ void em7180_health_debugfs(struct iio_dev *indio_dev);
 void em7180_status_seen(struct em7180_data *data, unsigned int status);
 void em7180_check_status(struct em7180_data *data);
 void em7180_recover_schedule(struct em7180_data *data);
+void em7180_recover_stop(struct em7180_data *data);
+void em7180_recover_start(struct em7180_data *data);
 int em7180_chip_recover(struct em7180_data *data);
 void em7180_report_error(struct em7180_data *data);
 

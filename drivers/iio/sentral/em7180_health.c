@@ -12,6 +12,7 @@
 #include <linux/cleanup.h>
 #include <linux/debugfs.h>
 #include <linux/device.h>
+#include <linux/devm-helpers.h>
 #include <linux/jiffies.h>
 #include <linux/lockdep.h>
 #include <linux/mutex.h>
@@ -22,6 +23,9 @@
 #include <linux/iio/buffer.h>
 #include <linux/iio/iio.h>
 
+#include <kunit/visibility.h>
+
+#include "em7180_compat.h"
 #include "em7180_core.h"
 
 #define EM7180_REG_SENSOR_STATUS	0x36
@@ -42,6 +46,7 @@ void em7180_recover_schedule(struct em7180_data *data)
 		delay = next - jiffies;
 	schedule_delayed_work(&data->recover_work, delay);
 }
+EXPORT_SYMBOL_IF_KUNIT(em7180_recover_schedule);
 
 /* SentralStatus was just read: a chip in standby has reset */
 void em7180_status_seen(struct em7180_data *data, unsigned int status)
@@ -116,11 +121,27 @@ static void em7180_recover_work(struct work_struct *work)
 	em7180_chip_recover(data);
 }
 
-static void em7180_recover_flush(void *arg)
+/*
+ * A pending recovery runs now, so that the chip is left running; then none
+ * runs any more: a restore whose transfer cannot be ended queues another
+ * (em7180_param_end()), which would otherwise run after the device is freed
+ * or put to sleep. Disabled, the work item refuses that queueing.
+ */
+void em7180_recover_stop(struct em7180_data *data)
 {
-	struct em7180_data *data = arg;
-
 	flush_delayed_work(&data->recover_work);
+	disable_delayed_work_sync(&data->recover_work);
+}
+
+/* After system sleep, before the interrupt and the chip's restore */
+void em7180_recover_start(struct em7180_data *data)
+{
+	enable_delayed_work(&data->recover_work);
+}
+
+static void em7180_recover_teardown(void *arg)
+{
+	em7180_recover_stop(arg);
 }
 
 static void em7180_watch_schedule(struct em7180_data *data)
@@ -170,16 +191,30 @@ const struct iio_buffer_setup_ops em7180_buffer_ops = {
 	.predisable = em7180_buffer_predisable,
 };
 
-/*
- * On unbind after the interrupt is freed, a pending recovery runs, so that
- * the chip is left running.
+/**
+ * em7180_health_init() - set up recovery and the watch of a running buffer
+ * @data: driver state
+ *
+ * Called before the first transfer that can ask for a recovery. On unbind
+ * the teardown runs in reverse: after the IIO device and the interrupt are
+ * gone, which ask for recoveries, the watch stops (it asks for them too),
+ * then recovery (em7180_recover_stop()).
+ *
+ * Return: 0 or a negative error code.
  */
 int em7180_health_init(struct em7180_data *data)
 {
+	int ret;
+
 	INIT_DELAYED_WORK(&data->recover_work, em7180_recover_work);
-	INIT_DELAYED_WORK(&data->watch_work, em7180_watch_work);
-	return devm_add_action_or_reset(data->dev, em7180_recover_flush, data);
+	ret = devm_add_action_or_reset(data->dev, em7180_recover_teardown, data);
+	if (ret)
+		return ret;
+
+	return devm_delayed_work_autocancel(data->dev, &data->watch_work,
+					    em7180_watch_work);
 }
+EXPORT_SYMBOL_IF_KUNIT(em7180_health_init);
 
 /* What recovery did, for a user who wonders why the data paused */
 static int em7180_recovery_show(struct seq_file *m, void *unused)

@@ -10,6 +10,7 @@
 
 #include <kunit/test.h>
 #include <linux/cleanup.h>
+#include <linux/delay.h>
 #include <linux/device.h>
 #include <linux/errno.h>
 #include <linux/firmware.h>
@@ -51,6 +52,7 @@ struct em7180_emu {
 	unsigned int n_log;
 	unsigned int transactions;
 	unsigned int nack_at;		/* fail this transaction (1-based) */
+	unsigned int end_nacks;		/* fail this many ends of bit 7 */
 	bool ack_never;
 	enum emu_ack_end ack_end;
 	bool standby_stuck;		/* AlgorithmStatus never shows standby */
@@ -155,6 +157,11 @@ static int emu_write(void *context, const void *buf, size_t count)
 
 	if (++emu->transactions == emu->nack_at)
 		return -EIO;
+	if (emu->end_nacks && b[0] == EM7180_REG_ALGO_CTRL && count == 2 &&
+	    (old_algo & ~b[1] & EM7180_ALGO_CTRL_PARAM_XFER)) {
+		emu->end_nacks--;
+		return -EIO;
+	}
 
 	emu_log(emu, true, b[0], b + 1, count - 1);
 	if (b[0] == EM7180_REG_UPLOAD_DATA) {
@@ -1201,6 +1208,119 @@ static void em7180_test_pm_firmware_changed(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_MAG_RATE], 30);
 }
 
+/*
+ * A recovery whose transfer cannot be ended queues another. The teardown
+ * of unbind runs the pending one and leaves none to run after the device
+ * is freed: nothing pending, no bus access after it.
+ */
+static void em7180_test_recover_teardown(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_data *data = &t->data;
+	struct em7180_emu *emu = &t->emu;
+	struct device *dev;
+	unsigned int seen;
+	int ret;
+
+	dev = root_device_register("em7180-kunit-health");
+	KUNIT_ASSERT_FALSE(test, IS_ERR(dev));
+	data->dev = dev;
+	ret = em7180_health_init(data);
+	if (ret) {
+		root_device_unregister(dev);
+		data->dev = t->dev;
+		KUNIT_FAIL(test, "em7180_health_init: %d", ret);
+		return;
+	}
+
+	test_configure(test, t);
+	test_power_loss(emu);
+	emu->end_nacks = UINT_MAX;
+	scoped_guard(mutex, &data->lock)
+		em7180_recover_schedule(data);
+
+	/* Runs the device's devm actions, as unbind does */
+	root_device_unregister(dev);
+	data->dev = t->dev;
+	seen = emu->transactions;
+	KUNIT_EXPECT_GE(test, data->resets, 1U);
+	KUNIT_EXPECT_TRUE(test, data->xfer_stuck);
+	KUNIT_EXPECT_FALSE(test, delayed_work_pending(&data->recover_work));
+	/* The one it would have queued: 50 ms later */
+	msleep(200);
+	KUNIT_EXPECT_EQ(test, emu->transactions, seen);
+}
+
+/*
+ * The same across system sleep: suspend runs the recovery pending, which
+ * queues another; none runs while asleep, where it would end the standby,
+ * and recoveries are queued again after the resume.
+ */
+static void em7180_test_recover_suspend(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	struct em7180_data *data;
+	struct iio_dev *indio_dev;
+	struct device *dev;
+	unsigned int seen;
+
+	if (!IS_ENABLED(CONFIG_PM_SLEEP))
+		kunit_skip(test, "no system sleep in this kernel");
+
+	test_configure(test, t);
+	dev = root_device_register("em7180-kunit-pm");
+	KUNIT_ASSERT_FALSE(test, IS_ERR(dev));
+	/* The driver's state in an IIO device, as probe leaves it */
+	indio_dev = iio_device_alloc(dev, sizeof(*data));
+	if (!indio_dev) {
+		root_device_unregister(dev);
+		KUNIT_FAIL(test, "iio_device_alloc failed");
+		return;
+	}
+	data = iio_priv(indio_dev);
+	data->dev = dev;
+	data->regmap = t->data.regmap;
+	data->cal_fw = t->data.cal_fw;
+	data->cal_fw_len = t->data.cal_fw_len;
+	data->cal_attrs = true;
+	data->cal_reported = true;
+	memcpy(data->ws, t->data.ws, sizeof(data->ws));
+	data->ws_valid = true;
+	data->rom_version = t->data.rom_version;
+	data->ram_version = t->data.ram_version;
+	mutex_init(&data->lock);
+	dev_set_drvdata(dev, indio_dev);
+	KUNIT_EXPECT_EQ(test, em7180_health_init(data), 0);
+
+	test_power_loss(emu);
+	/* Both tries of the end of the restore's transfer */
+	emu->end_nacks = 2;
+	scoped_guard(mutex, &data->lock)
+		em7180_recover_schedule(data);
+	KUNIT_EXPECT_EQ(test, em7180_pm_ops.suspend(dev), 0);
+	seen = emu->transactions;
+	KUNIT_EXPECT_EQ(test, data->resets, 1U);
+	KUNIT_EXPECT_TRUE(test, data->xfer_stuck);
+	KUNIT_EXPECT_FALSE(test, delayed_work_pending(&data->recover_work));
+	/* The one it would have queued: 50 ms later */
+	msleep(200);
+	KUNIT_EXPECT_EQ(test, emu->transactions, seen);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL],
+			EM7180_ALGO_CTRL_STANDBY);
+
+	KUNIT_EXPECT_EQ(test, em7180_pm_ops.resume(dev), 0);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
+	/* Ended: a later reset gets a whole recovery, not just that end */
+	KUNIT_EXPECT_FALSE(test, data->xfer_stuck);
+	scoped_guard(mutex, &data->lock)
+		em7180_recover_schedule(data);
+	KUNIT_EXPECT_TRUE(test, delayed_work_pending(&data->recover_work));
+
+	root_device_unregister(dev);
+	iio_device_free(indio_dev);
+}
+
 /* calibbias reads never reach the bus, and fail while the copy is unknown */
 static void em7180_test_calibbias_copy(struct kunit *test)
 {
@@ -1501,6 +1621,8 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_pm_restore_order),
 	KUNIT_CASE(em7180_test_pm_standby_stuck),
 	KUNIT_CASE(em7180_test_pm_firmware_changed),
+	KUNIT_CASE(em7180_test_recover_teardown),
+	KUNIT_CASE(em7180_test_recover_suspend),
 	KUNIT_CASE(em7180_test_calibbias_copy),
 	KUNIT_CASE(em7180_test_warmstart_fuzz),
 	{ }

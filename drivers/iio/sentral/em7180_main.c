@@ -1481,6 +1481,15 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
+	/*
+	 * Before the first parameter transfer, whose end may fail and ask
+	 * for a recovery; its teardown runs before the unbind action, which
+	 * a recovery would undo.
+	 */
+	ret = em7180_health_init(data);
+	if (ret)
+		return ret;
+
 	/* Streaming works without: calibbias reads fail until a transfer */
 	scoped_guard(mutex, &data->lock) {
 		ret = em7180_accel_offset_fetch(data);
@@ -1500,10 +1509,6 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;
 	indio_dev->modes = INDIO_DIRECT_MODE;
-
-	ret = em7180_health_init(data);
-	if (ret)
-		return ret;
 
 	if (data->irq) {
 		ret = em7180_trigger_probe(indio_dev, data->irq);
@@ -1676,6 +1681,12 @@ int em7180_chip_resume(struct em7180_data *data)
 	ret = em7180_chip_restore(data, &lost, &rom, &ram);
 	if (ret && ret != -ETIMEDOUT && ret != -ENODEV)
 		ret = em7180_chip_restore(data, &lost, &rom, &ram);
+	/*
+	 * Its last write ended any transfer left open, which the recovery
+	 * dropped at suspend was to end: the next recovery owes it nothing.
+	 */
+	if (!ret)
+		data->xfer_stuck = false;
 
 	return ret;
 }
@@ -1693,10 +1704,11 @@ static int em7180_suspend(struct device *dev)
 		return ret;
 	if (data->irq)
 		disable_irq(data->irq);
-	flush_delayed_work(&data->recover_work);
+	em7180_recover_stop(data);
 
 	ret = em7180_chip_suspend(data);
 	if (ret) {
+		em7180_recover_start(data);
 		if (data->irq)
 			enable_irq(data->irq);
 		em7180_resume_triggering(indio_dev);
@@ -1711,6 +1723,8 @@ static int em7180_resume(struct device *dev)
 	struct em7180_data *data = iio_priv(indio_dev);
 	int ret;
 
+	/* A restore that fails asks for a recovery */
+	em7180_recover_start(data);
 	ret = em7180_chip_resume(data);
 	if (data->irq)
 		enable_irq(data->irq);
