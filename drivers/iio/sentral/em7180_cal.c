@@ -155,14 +155,16 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_cal_update);
 
 /*
  * SentralStatus and AlgorithmStatus, with @block 0x43..0x4E too, in one
- * burst unless the register pointer stops at 0x3A. SentralStatus because a
- * chip that reset itself without an interrupt waits in standby.
+ * burst unless the register pointer may stop at 0x3A (@split, or found so).
+ * SentralStatus because a chip that reset itself without an interrupt
+ * waits in standby.
  */
-static int em7180_cal_read(struct em7180_data *data, u8 *regs, bool block)
+static int em7180_cal_read(struct em7180_data *data, u8 *regs, bool block,
+			   bool split)
 {
 	int ret;
 
-	if (!block || data->param_single) {
+	if (!block || split || data->param_single) {
 		ret = regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
 				       regs, 2);
 		if (ret || !block)
@@ -180,7 +182,8 @@ static int em7180_cal_read(struct em7180_data *data, u8 *regs, bool block)
  * em7180_cal_detect() - does the firmware running have the note's registers?
  * @data: driver state, with @data->lock held, the chip running
  *
- * Asked at probe and when a power loss brought other firmware.
+ * Asked at probe, before any parameter transfer has shown how the register
+ * pointer moves, and when a power loss brought other firmware.
  *
  * Return: 0 or the bus error (then they are not reported).
  */
@@ -192,7 +195,7 @@ int em7180_cal_detect(struct em7180_data *data)
 	lockdep_assert_held(&data->lock);
 
 	data->appnote = false;
-	ret = em7180_cal_read(data, regs, true);
+	ret = em7180_cal_read(data, regs, true, true);
 	if (ret)
 		return ret;
 
@@ -215,7 +218,7 @@ static int em7180_cal_refresh(struct em7180_data *data)
 		return 0;
 
 	data->cal.valid = false;
-	ret = em7180_cal_read(data, regs, data->appnote);
+	ret = em7180_cal_read(data, regs, data->appnote, false);
 	if (ret)
 		return ret;
 

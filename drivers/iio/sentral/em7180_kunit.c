@@ -1281,10 +1281,8 @@ static void em7180_test_recover_suspend(struct kunit *test)
 	data = iio_priv(indio_dev);
 	data->dev = dev;
 	data->regmap = t->data.regmap;
-	data->cal_fw = t->data.cal_fw;
-	data->cal_fw_len = t->data.cal_fw_len;
-	data->cal_attrs = true;
-	data->cal_reported = true;
+	data->appnote_attrs = true;
+	data->appnote = true;
 	memcpy(data->ws, t->data.ws, sizeof(data->ws));
 	data->ws_valid = true;
 	data->rom_version = t->data.rom_version;

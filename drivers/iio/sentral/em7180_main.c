@@ -1490,17 +1490,21 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
-	/* Streaming works without: calibbias reads fail until a transfer */
+	/*
+	 * Streaming works without either: the score is left out, calibbias
+	 * reads fail until a transfer
+	 */
 	scoped_guard(mutex, &data->lock) {
+		ret = em7180_cal_detect(data);
+		if (ret)
+			dev_warn(dev, "cannot read the calibration registers: %d\n",
+				 ret);
+		data->appnote_attrs = data->appnote;
 		ret = em7180_accel_offset_fetch(data);
 		if (ret)
 			dev_warn(dev, "cannot read the accelerometer offsets: %d\n",
 				 ret);
-		ret = em7180_cal_detect(data);
-		data->appnote_attrs = data->appnote;
 	}
-	if (ret)
-		return dev_err_probe(dev, ret, "failed to read the calibration state\n");
 	dev_info(dev, "firmware ROM 0x%04x RAM 0x%04x from %s, calibration %s\n",
 		 data->rom_version, data->ram_version,
 		 data->fw ? "the host" : "EEPROM",
