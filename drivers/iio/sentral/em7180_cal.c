@@ -257,7 +257,7 @@ ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 	struct em7180_cal cal;
 	int ret, milli;
 
-	scoped_guard(mutex, &data->lock) {
+	scoped_guard(em7180, data) {
 		ret = em7180_cal_refresh(data);
 		if (!ret && what != EM7180_CAL_ATTR_LEVEL && !data->appnote)
 			ret = -ENODATA;

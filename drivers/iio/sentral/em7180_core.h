@@ -9,6 +9,7 @@
 #define _EM7180_CORE_H_
 
 #include <linux/bits.h>
+#include <linux/cleanup.h>
 #include <linux/iio/iio.h>
 #include <linux/mutex.h>
 #include <linux/pm.h>
@@ -114,6 +115,9 @@ struct em7180_data {
 	struct regmap *regmap;
 	struct iio_trigger *trig;	/* NULL without an INT line */
 	struct mutex lock;	/* chip access and every field below */
+	/* A transfer on the sensor bus behind the hub (em7180_passthru.c) */
+	bool passthru;
+	wait_queue_head_t passthru_wq;
 	int irq;
 	/* Parameter transfer: learned acknowledge wait, register order */
 	unsigned int ack_wait_us;
@@ -172,6 +176,11 @@ struct em7180_data {
 		aligned_s64 ts;
 	} scan;
 };
+
+void em7180_lock(struct em7180_data *data);
+/* The driver's lock, with the hub out of passthrough */
+DEFINE_GUARD(em7180, struct em7180_data *, em7180_lock(_T),
+	     mutex_unlock(&_T->lock))
 
 int em7180_params_read(struct em7180_data *data, unsigned int first,
 		       unsigned int count, u32 *vals);

@@ -335,7 +335,7 @@ int em7180_feature_read_freq(struct em7180_data *data,
 	unsigned int rate;
 	int ret;
 
-	scoped_guard(mutex, &data->lock) {
+	scoped_guard(em7180, data) {
 		ret = regmap_read(data->regmap,
 				  EM7180_REG_ACTUAL_FEATURE0 + f->slot, &rate);
 		if (!ret)
@@ -369,7 +369,7 @@ int em7180_feature_write_freq(struct em7180_data *data,
 	if (i == ARRAY_SIZE(em7180_feature_freq_avail))
 		return -EINVAL;
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	return regmap_update_bits(data->regmap,
 				  EM7180_REG_FEATURE_RATE0 + f->slot,
 				  EM7180_FEATURE_RATE_MASK,

@@ -102,7 +102,7 @@ static void em7180_recover_work(struct work_struct *work)
 						recover_work);
 	int ret;
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	if (data->xfer_stuck) {
 		data->xfer_stuck = false;
 		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
@@ -160,7 +160,7 @@ static void em7180_watch_work(struct work_struct *work)
 	unsigned int scans = READ_ONCE(data->scans), status;
 
 	if (!READ_ONCE(data->pace_event) || scans == data->watch_scans) {
-		guard(mutex)(&data->lock);
+		guard(em7180)(data);
 		if (!regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
 				 &status))
 			em7180_status_seen(data, status);
@@ -221,7 +221,7 @@ static int em7180_recovery_show(struct seq_file *m, void *unused)
 {
 	struct em7180_data *data = m->private;
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	seq_printf(m, "resets %u\n", data->resets);
 	seq_printf(m, "pending %d\n", delayed_work_pending(&data->recover_work));
 	if (data->resets)

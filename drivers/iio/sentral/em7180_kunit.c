@@ -10,6 +10,7 @@
 
 #include <kunit/test.h>
 #include <linux/cleanup.h>
+#include <linux/completion.h>
 #include <linux/delay.h>
 #include <linux/device.h>
 #include <linux/errno.h>
@@ -253,6 +254,7 @@ static int em7180_test_init(struct kunit *test)
 	t->data.appnote_attrs = true;
 	t->data.appnote = true;
 	mutex_init(&t->data.lock);
+	init_waitqueue_head(&t->data.passthru_wq);
 	/* A transfer that cannot be ended asks for a recovery: none here */
 	INIT_DELAYED_WORK(&t->data.recover_work, emu_no_recovery);
 	test->priv = t;
@@ -1529,11 +1531,26 @@ static void em7180_test_upload_errors(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, val, EM7180_HOST_CTRL_RUN);
 }
 
+struct test_locker {
+	struct work_struct work;
+	struct em7180_data *data;
+	struct completion locked;
+};
+
+static void test_locker_fn(struct work_struct *work)
+{
+	struct test_locker *l = container_of(work, struct test_locker, work);
+
+	em7180_lock(l->data);
+	mutex_unlock(&l->data->lock);
+	complete(&l->locked);
+}
+
 /*
  * One transfer on the sensor bus: standby, passthrough and its status; then
- * passthrough off, fusion on, EventStatus read to lower INT. The driver's
- * lock is held from select to deselect, and a scan announced before it is
- * not pushed.
+ * passthrough off, fusion on, EventStatus read to lower INT. No lock is
+ * held in between, but em7180_lock() waits for the deselect, and a scan
+ * announced before it is not pushed.
  */
 static void em7180_test_passthru_sequence(struct kunit *test)
 {
@@ -1542,18 +1559,31 @@ static void em7180_test_passthru_sequence(struct kunit *test)
 	struct em7180_emu *emu = &t->emu;
 	struct i2c_mux_core muxc = { .priv = &t->data };
 	unsigned int seq = t->data.xfer_seq;
+	struct test_locker l = { .data = &t->data };
 
 	/* A NACK of the first write is retried */
 	emu->nack_at = emu->transactions + 1;
 	KUNIT_ASSERT_EQ(test, em7180_passthru_select(&muxc, 0), 0);
-	KUNIT_EXPECT_TRUE(test, mutex_is_locked(&t->data.lock));
+	KUNIT_EXPECT_FALSE(test, mutex_is_locked(&t->data.lock));
+	KUNIT_EXPECT_TRUE(test, t->data.passthru);
 	KUNIT_ASSERT_EQ(test, emu->n_log, 3U);
 	expect_xfer(test, emu, 0, true, EM7180_REG_ALGO_CTRL, &on, 1);
 	expect_xfer(test, emu, 1, true, EM7180_REG_PASSTHRU_CTRL, &on, 1);
 	expect_xfer(test, emu, 2, false, EM7180_REG_PASSTHRU_STATUS, NULL, 1);
 
+	/* The stream's and the transfers' lock waits for the deselect */
+	INIT_WORK_ONSTACK(&l.work, test_locker_fn);
+	init_completion(&l.locked);
+	schedule_work(&l.work);
+	KUNIT_EXPECT_EQ(test, wait_for_completion_timeout(&l.locked,
+							  msecs_to_jiffies(50)), 0);
+
 	emu->regs[EM7180_REG_EVENT_STATUS] = 0;
 	KUNIT_EXPECT_EQ(test, em7180_passthru_deselect(&muxc, 0), 0);
+	KUNIT_EXPECT_FALSE(test, t->data.passthru);
+	KUNIT_EXPECT_NE(test, wait_for_completion_timeout(&l.locked, HZ), 0);
+	flush_work(&l.work);
+	destroy_work_on_stack(&l.work);
 	KUNIT_EXPECT_FALSE(test, mutex_is_locked(&t->data.lock));
 	KUNIT_EXPECT_EQ(test, t->data.xfer_seq, seq + 1);
 	KUNIT_ASSERT_EQ(test, emu->n_log, 8U);

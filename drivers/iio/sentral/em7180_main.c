@@ -300,6 +300,24 @@ static s16 em7180_quat_component(const u8 *src)
 	return clamp_t(s32, q, S16_MIN, S16_MAX);
 }
 
+/**
+ * em7180_lock() - take the driver's lock with the hub out of passthrough
+ * @data: driver state
+ *
+ * Waits for a transfer on the sensor bus behind the hub to end
+ * (em7180_passthru.c).
+ */
+void em7180_lock(struct em7180_data *data)
+{
+	mutex_lock(&data->lock);
+	while (data->passthru) {
+		mutex_unlock(&data->lock);
+		wait_event(data->passthru_wq, !READ_ONCE(data->passthru));
+		mutex_lock(&data->lock);
+	}
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_lock);
+
 /* The actual rate; the requested one until the sensor has started */
 static int em7180_read_freq(struct em7180_data *data,
 			    const struct em7180_sensor *s, int *val)
@@ -307,7 +325,7 @@ static int em7180_read_freq(struct em7180_data *data,
 	unsigned int rate;
 	int ret;
 
-	scoped_guard(mutex, &data->lock) {
+	scoped_guard(em7180, data) {
 		ret = regmap_read(data->regmap, s->actual_reg, &rate);
 		if (!ret && !rate)
 			ret = regmap_read(data->regmap, s->rate_reg, &rate);
@@ -330,7 +348,7 @@ static int em7180_write_freq(struct em7180_data *data,
 	if (i == s->n_freq_avail)
 		return -EINVAL;
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	return regmap_write(data->regmap, s->rate_reg, val / s->hz_per_lsb);
 }
 
@@ -387,7 +405,7 @@ static void em7180_ws_set(struct em7180_data *data, const u32 *vals)
 int em7180_read_calibbias(struct em7180_data *data, unsigned int axis,
 			  int *val)
 {
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	if (!data->accel_offset_valid)
 		return -ENODATA;
 
@@ -417,7 +435,7 @@ int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
 
 	bits = em7180_lsb_to_float_g(val);
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	ret = em7180_params_write(data, param, 1, &bits);
 	if (!ret && data->accel_offset_valid)
 		data->accel_offset[axis] = bits;
@@ -437,7 +455,7 @@ static int em7180_read_raw(struct em7180_data *data,
 	u8 raw[16];
 	int i, ret;
 
-	scoped_guard(mutex, &data->lock) {
+	scoped_guard(em7180, data) {
 		em7180_check_status(data);
 		ret = regmap_bulk_read(data->regmap, chan->address, raw,
 				       quat ? 16 : 2);
@@ -567,7 +585,7 @@ static ssize_t em7180_id_show(struct device *dev,
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
 	unsigned int i = to_iio_dev_attr(attr)->address;
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	u16 id[] = { data->product_id, data->revision_id, data->rom_version,
 		     data->ram_version };
 
@@ -712,7 +730,7 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 		if (ret < 0)
 			return ret;
 
-		guard(mutex)(&data->lock);
+		guard(em7180)(data);
 		/* Another transfer came after that scan: wait for the next */
 		if (ret && data->scan_seq != data->xfer_seq)
 			continue;
@@ -756,7 +774,7 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 	if (!iio_device_claim_direct(indio_dev))
 		return -EBUSY;
 
-	scoped_guard(mutex, &data->lock) {
+	scoped_guard(em7180, data) {
 		ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
 					  EM7180_WS_NUM_PARAMS, vals);
 		if (!ret) {
@@ -831,7 +849,7 @@ static int em7180_debugfs_reg_access(struct iio_dev *indio_dev,
 {
 	struct em7180_data *data = iio_priv(indio_dev);
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	if (!readval)
 		return regmap_write(data->regmap, reg, writeval);
 	if (regmap_reg_in_ranges(reg, em7180_precious_ranges,
@@ -958,7 +976,7 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 		goto done;
 	}
 
-	scoped_guard(mutex, &data->lock) {
+	scoped_guard(em7180, data) {
 		if (seq == data->xfer_seq)
 			ret = em7180_scan_read(indio_dev, mask, false, &fresh);
 	}
@@ -1030,7 +1048,7 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 			em7180_report_error(data);
 		if (pending & EM7180_EVENT_CPU_RESET) {
 			em7180_recover_schedule(data);
-		} else if (pending & EM7180_EVENT_DATA) {
+		} else if (pending & EM7180_EVENT_DATA && !data->passthru) {
 			/* The burst in the same lock section: no transfer in between */
 			scan = true;
 			data->scan_seq = data->xfer_seq;
@@ -1097,7 +1115,7 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 	unsigned int status;
 	int ret;
 
-	scoped_guard(mutex, &data->lock) {
+	scoped_guard(em7180, data) {
 		WRITE_ONCE(data->pace_event,
 			   state && mask ? em7180_pace_event(data, mask) : 0);
 		/* No scan comes any more: transfers waiting for one go ahead */
@@ -1359,7 +1377,7 @@ static void em7180_unbind_action(void *arg)
 		{ EM7180_REG_ALGO_CTRL, 0 },
 	};
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	if (regmap_multi_reg_write(data->regmap, seq, ARRAY_SIZE(seq)))
 		dev_warn(data->dev, "chip not left running\n");
 }
@@ -1434,6 +1452,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 	init_waitqueue_head(&data->scan_wq);
+	init_waitqueue_head(&data->passthru_wq);
 	dev_set_drvdata(dev, indio_dev);
 
 	ret = devm_regulator_bulk_get_enable(dev, ARRAY_SIZE(regulators),
@@ -1494,7 +1513,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	 * Streaming works without either: the score is left out, calibbias
 	 * reads fail until a transfer
 	 */
-	scoped_guard(mutex, &data->lock) {
+	scoped_guard(em7180, data) {
 		ret = em7180_cal_detect(data);
 		if (ret)
 			dev_warn(dev, "cannot read the calibration registers: %d\n",
@@ -1550,7 +1569,7 @@ int em7180_chip_suspend(struct em7180_data *data)
 	u8 buf[EM7180_WS_SIZE];
 	int ret;
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	ret = em7180_warmstart_read(data, buf);
 	if (ret)
 		dev_warn(data->dev,
@@ -1681,7 +1700,7 @@ int em7180_chip_resume(struct em7180_data *data)
 	bool lost = false;
 	int ret;
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	ret = em7180_chip_restore(data, &lost, &rom, &ram);
 	if (ret && ret != -ETIMEDOUT && ret != -ENODEV)
 		ret = em7180_chip_restore(data, &lost, &rom, &ram);

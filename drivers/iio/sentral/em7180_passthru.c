@@ -16,13 +16,14 @@
  * EventStatus read, which lowers INT. Standby keeps the fusion state.
  *
  * The gate is mux-locked: select and deselect talk to the hub through the
- * parent adapter. The driver's lock is taken in select and released in
- * deselect, which the i2c-mux core calls in the same task whatever select
- * returned: the stream, parameter transfers and recovery wait for one
- * transfer on the sensor bus at a time, never find the hub in passthrough,
- * and a scan announced before it is not pushed (xfer_seq). The lock
- * order is the gate adapter's mux lock, then the driver's lock, then the
- * parent adapter's bus lock, as for every other access to the hub.
+ * parent adapter, and the i2c-mux core serialises the transfers on the
+ * gate's adapter. While the hub is in passthrough (data->passthru, set in
+ * select, cleared in deselect, which the core calls in the same task
+ * whatever select returned) em7180_lock() waits: the stream, parameter
+ * transfers and recovery never find the hub there, and a scan announced
+ * before it is not pushed (xfer_seq). No lock is held from select to
+ * deselect: the interrupt thread only reads EventStatus meanwhile, for a
+ * reset or an error, as the reference hosts read it during passthrough.
  */
 
 #include <linux/device.h>
@@ -31,6 +32,7 @@
 #include <linux/i2c-mux.h>
 #include <linux/mutex.h>
 #include <linux/regmap.h>
+#include <linux/wait.h>
 
 #include <kunit/visibility.h>
 
@@ -68,14 +70,15 @@ static int em7180_passthru_wait(struct em7180_data *data, unsigned int reg,
 					EM7180_PASSTHRU_TIMEOUT_US);
 }
 
-/* Takes the driver's lock, which em7180_passthru_deselect() releases */
+/* Passthrough until em7180_passthru_deselect(), whatever this returns */
 VISIBLE_IF_KUNIT int em7180_passthru_select(struct i2c_mux_core *muxc,
 					    u32 chan_id)
 {
 	struct em7180_data *data = i2c_mux_priv(muxc);
 	int ret;
 
-	mutex_lock(&data->lock);
+	guard(em7180)(data);
+	WRITE_ONCE(data->passthru, true);
 
 	ret = em7180_passthru_write(data, EM7180_REG_ALGO_CTRL,
 				    EM7180_ALGO_CTRL_STANDBY) ?:
@@ -104,6 +107,7 @@ VISIBLE_IF_KUNIT int em7180_passthru_deselect(struct i2c_mux_core *muxc,
 	unsigned int status;
 	int ret;
 
+	guard(mutex)(&data->lock);
 	ret = em7180_passthru_write(data, EM7180_REG_PASSTHRU_CTRL, 0) ?:
 	      em7180_passthru_wait(data, EM7180_REG_PASSTHRU_STATUS,
 				   EM7180_PASSTHRU_ON, false);
@@ -130,8 +134,8 @@ VISIBLE_IF_KUNIT int em7180_passthru_deselect(struct i2c_mux_core *muxc,
 			em7180_recover_schedule(data);
 	}
 
-	mutex_unlock(&data->lock);
-
+	WRITE_ONCE(data->passthru, false);
+	wake_up_all(&data->passthru_wq);
 	return ret;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_passthru_deselect);

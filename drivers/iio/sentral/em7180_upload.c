@@ -280,7 +280,7 @@ int em7180_upload_probe(struct em7180_data *data, bool no_eeprom)
 	if (ret)
 		return ret;
 
-	guard(mutex)(&data->lock);
+	guard(em7180)(data);
 	ret = regmap_bulk_read(data->regmap, EM7180_REG_ROM_VERSION, &rom,
 			       sizeof(rom));
 	if (ret)
