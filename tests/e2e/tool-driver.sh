@@ -78,8 +78,8 @@ like "and saved" "$out" "saved iio:device[0-9]+ calibration to $f"
 ok "file exists" test -f "$f"
 is "file mode 0600" "$(stat -c %a "$f")" 600
 is "state dir mode 0700" "$(stat -c %a "$STATE")" 700
-is "no temporary file left, only the writers' lock file" \
-	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws "
+is "no temporary file left, only the writers' lock file and the driver's files" \
+	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws firmware "
 is "the lock file is 0600" "$(stat -c %a "$STATE/.$key.ws.lock")" 600
 ok "show accepts it" sentral-warmstart show "$f"
 # The identity comes from the driver's attributes, not from i2c-dev.
