@@ -3,16 +3,19 @@
 #
 # Runs on the HOST: power pulled under an application that streams. Two
 # boots of the UML machine sharing one state directory (tests/uml/run
-# --udev --state DIR):
+# --udev --caldata --state DIR, the firmware loader finding DIR/firmware
+# as em7180/ as through the package's /usr/lib/firmware/em7180):
 #   1. an application streams (iio_readdev through the driver's trigger)
 #      from before the calibration to the end; sentral-warmstart watch runs
 #      (as sentral-warmstart@.service runs it); the chip is calibrated by
 #      simulated motion and the watcher saves by itself while the stream
 #      runs; then the machine is killed (SIGKILL to the UML processes): no
 #      shutdown, no stop action, no sync;
-#   2. udev restores at probe: in_magn_calibration_auto_status is 4 (stable) without
-#      any motion and the chip's blob equals the saved payload; the
-#      application streams again.
+#   2. the driver restores at probe, from the file the watcher wrote with
+#      its save, and udev's restore finds the chip restored:
+#      in_magn_calibration_auto_status is 4 (stable) without any motion and
+#      the chip's blob equals the saved payload; the application streams
+#      again.
 # The host script calls itself inside the machine with the boot's name.
 set -u
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
@@ -38,6 +41,9 @@ if [ "${1:-}" = --inside ]; then
 			wait_for 10 grep -q "saved iio:device[0-9]* calibration" /tmp/watch.log
 		sed 's/^/#   watch: /' /tmp/watch.log
 		ok "a valid file" sentral-warmstart show "$f"
+		is "and the driver's file, with its payload" \
+			"$(cat "$STATE"/firmware/caldata-*.bin | blob_words)" \
+			"$(file_payload_words "$f")"
 		is "the buffer stayed enabled" "$(cat "$DEV/buffer/enable")" 1
 		n=$(dbg_get samples quaternion_read)
 		sleep 0.5
@@ -49,8 +55,11 @@ if [ "${1:-}" = --inside ]; then
 		sleep 600
 		;;
 	second)
-		like "restored at probe by udev" "$(dmesg)" \
-			"restored iio:device[0-9]+ calibration from $f"
+		client=$(basename "$(readlink -f "$DEV/..")")
+		like "the driver restored at probe" "$(dmesg)" \
+			"em7180 $client: restored calibration from em7180/caldata-[0-9a-f]{4}-[0-9a-f]{4}-$client.bin"
+		like "udev's restore found it restored" "$(dmesg)" \
+			"sentral-warmstart\[[0-9]+\]: iio:device[0-9]+: already restored at probe: it holds the calibration of $f"
 		is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_level)" 4
 		is "motion never set this boot" "$(cat "$SIM_DBG/motion")" 0
 		# Parameters 33..35 are the gyro bias, which the chip learns
@@ -80,7 +89,7 @@ chmod 0700 "$state"
 # virtual machine: the UML kernel, a child of tests/uml/run, makes a
 # session and process group of its own. They are stopped first, so that
 # none can notice another's death and start a shutdown.
-"$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --state "$state" -- \
+"$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --caldata --state "$state" -- \
 	"$SENTRAL_ROOT/tests/e2e/boot-pulledpower.sh" --inside first >"$out" 2>&1 &
 run=$!
 for _ in $(seq 600); do
@@ -101,9 +110,10 @@ nok "and none failed" grep -q "^not ok" "$out"
 nok "boot 1 never shut down" grep -q "reboot: Power down" "$out"
 n=$(ls "$state"/*.ws 2>/dev/null | wc -l)
 is "one saved file on the host" "$n" 1
-nok "no temporary file left" sh -c "ls -A '$state' | grep -q tmp"
+is "one driver's file on the host" "$(ls "$state/firmware" | wc -l)" 1
+nok "no temporary file left" sh -c "find '$state' -name '*tmp*' | grep -q ."
 
-boot_out=$("$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --state "$state" -- \
+boot_out=$("$SENTRAL_ROOT/tests/uml/run" -k "$kver" --udev --caldata --state "$state" -- \
 	"$SENTRAL_ROOT/tests/e2e/boot-pulledpower.sh" --inside second 2>&1)
 rc=$?
 sed 's/^/#   /' <<<"$boot_out"

@@ -94,7 +94,7 @@ ok "level 4 after the restore" wait_for 2 level_is 4
 knob appnote_layout 1
 ok "bind again" rebind
 is "all three of the note's attributes" "$(note_attrs)" 3
-like "the probe line says so" "$(dmesg | grep "$CLIENT" | tail -n 1)" \
+like "the probe line says so" "$(dmesg | grep "$CLIENT: firmware ROM" | tail -n 1)" \
 	'calibration with score$'
 like "in_magn_calibration_score reads a percentage" \
 	"$(cat "$DEV/in_magn_calibration_score")" '^[0-9]+\.[0-9]{3}$'

@@ -105,7 +105,10 @@ DEV=$(em7180_dir)
 ok "an IIO device" test -n "$DEV"
 like "the log says what was uploaded" "$(since | grep em7180)" \
 	"firmware em7180.fw uploaded \(2048 bytes, CRC $crc\)"
-is "nothing refused" "$(since | grep -c 'em7180.*\(error\|fail\|mismatch\)')" 0
+# (but the firmware loader's own line of Debian's kernels for the saved
+# calibration the driver looks for at probe, which there is none of here)
+is "nothing refused" "$(since | grep -v 'failed to load em7180/caldata-' |
+	grep -c 'em7180.*\(error\|fail\|mismatch\)')" 0
 is "ram_version is the image's" "$(cat "$DEV/ram_version")" 0x0e42
 is "firmware_source: the host" "$(cat "$DEV/firmware_source")" host
 is "rom_version" "$(cat "$DEV/rom_version")" 0x09e6

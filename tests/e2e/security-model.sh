@@ -251,8 +251,8 @@ ok "save --force over an existing file" sentral-warmstart save --force
 ok "an open reader still sees the complete old file" cmp - /tmp/old.ws <&3
 exec 3<&-
 ok "the file was replaced, not rewritten in place" test "$(stat -c %i "$f")" != "$ino"
-is "nothing but the state file and the writers' lock: no temporary file" \
-	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws "
+is "nothing but the state file, the writers' lock and the driver's files: no temporary file" \
+	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws firmware "
 is "the writers' lock is root's, 0600, a regular file" \
 	"$(stat -c '%a %U %F' "$STATE/.$key.ws.lock")" "600 root regular empty file"
 # A save killed between its temporary file and the rename leaves the file;
@@ -261,7 +261,7 @@ cp "$f" "$STATE/.$key.ws.0badf00d.tmp"
 touch -d '-1 minute' "$STATE/.$key.ws.0badf00d.tmp"
 ok "save after a killed save" sentral-warmstart save --force
 is "the killed save's temporary file is gone" \
-	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws "
+	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws firmware "
 # A write that fails (ENOSPC) leaves the old file as it was.
 mkdir -p /tmp/full
 mount -t tmpfs -o size=8k,mode=0700 tmpfs /tmp/full

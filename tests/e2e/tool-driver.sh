@@ -95,8 +95,8 @@ ok "file exists" test -f "$f"
 is "version 2, level 4, judged stable (2), no score" "$(ws_header "$f")" "2 4 2 0"
 is "file mode 0600" "$(stat -c %a "$f")" 600
 is "state dir mode 0700" "$(stat -c %a "$STATE")" 700
-is "no temporary file left, only the writers' lock file" \
-	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws "
+is "no temporary file left, only the writers' lock file and the driver's files" \
+	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws firmware "
 is "the lock file is 0600" "$(stat -c %a "$STATE/.$key.ws.lock")" 600
 ok "show accepts it" sentral-warmstart show "$f"
 # The identity comes from the driver's attributes, not from i2c-dev.

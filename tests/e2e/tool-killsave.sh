@@ -70,7 +70,9 @@ ok "some kill points leave the old file" test "$olds" -gt 0
 ok "and those after the rename the new one" test "$news" -gt 0
 ls -A "$STATE" | sed 's/^/# left in the state directory: /'
 ok "a save after it all" sentral-warmstart save --force
-is "the state directory holds the file and the writers' lock file: no temporary file left" \
-	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws "
+is "the state directory holds the file, the writers' lock file and the driver's files: no temporary file left" \
+	"$(ls -A "$STATE" | tr '\n' ' ')" ".$key.ws.lock $key.ws firmware "
+is "and firmware/ the driver's file of this chip alone" \
+	"$(ls -A "$STATE/firmware" | sed 's/^caldata-[0-9a-f]\{4\}-[0-9a-f]\{4\}-[^.]*\.bin$/caldata/')" caldata
 
 done_testing

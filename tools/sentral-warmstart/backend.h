@@ -50,6 +50,11 @@ struct sw_backend {
 	const char *kind;	/* "driver" or "i2c" */
 	char name[128];		/* "iio:device0" or "/dev/i2c-0@0x28" */
 	char key[SW_KEY_MAX];	/* saved-file key, see devkey.h */
+	/*
+	 * The driver's device, the I2C client ("1-0028"), which names the
+	 * file the driver restores at probe (caldata.h); "" for i2c-dev
+	 */
+	char client[64];
 	/* "" when none; an old key shared by two chips is not listed */
 	char legacy_key[SW_NLEGACY][SW_KEY_MAX];
 };

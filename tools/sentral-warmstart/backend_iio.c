@@ -610,6 +610,10 @@ static int device_key(struct udev *u, struct iio_be *ib, struct sw_err *e)
 				  ib->b.name, strerror(errno));
 	idp = udev_device_get_property_value(dev, "ID_PATH");
 	copy_str(ib->id_path, sizeof(ib->id_path), idp ? idp : "");
+	/* The device the driver probed: its name is the driver's dev_name() */
+	if (udev_device_get_parent(dev))
+		copy_str(ib->b.client, sizeof(ib->b.client),
+			 udev_device_get_sysname(udev_device_get_parent(dev)));
 	client = sw_udev_i2c_client(udev_device_get_parent(dev));
 	if (client) {
 		copy_str(ib->parent, sizeof(ib->parent),

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "board.h"
+#include "caldata.h"
 #include "cmd.h"
 #include "level.h"
 #include "policy.h"
@@ -379,6 +380,27 @@ static int writers_lock(const struct sw_opts *o, struct sw_env *env,
 	return fd;
 }
 
+/*
+ * The file the driver restores at probe (caldata.h), kept equal to the
+ * state file's payload: only for the state file (not --file's), only with
+ * the driver. A failure is a warning, not the command's: the state file
+ * stands, and the restore after probe (the unit, the udev rule) still
+ * brings it back.
+ */
+static void caldata_keep(const struct sw_backend *b, const struct sw_opts *o,
+			 struct sw_env *env, const struct sw_chip_info *chip,
+			 const uint8_t *payload)
+{
+	struct sw_err ce;
+
+	if (o->file || !b->client[0])
+		return;
+	sw_err_clear(&ce);
+	if (sw_caldata_write(o->state_dir, chip, b->client, payload, NULL, &ce))
+		sw_note(env, "warning: %s; the driver cannot restore this calibration at probe, the restore after it still does",
+			ce.msg);
+}
+
 /* The payload and header to write for the policy's answer. */
 static void new_file(enum sw_save_what what, const struct sw_cal_state *cs,
 		     const uint8_t *blob, const struct sw_file *old,
@@ -437,6 +459,7 @@ static int save_locked(struct sw_backend *b, const struct sw_opts *o,
 	ret = sw_file_write_atomic(path, out, sizeof(out), !o->file, e);
 	if (ret)
 		return ret;
+	caldata_keep(b, o, env, &nf.chip, nf.payload);
 	blob_offsets(blob, lsb);
 	if (what == SW_SAVE_OFFSETS)
 		sw_note(env, "saved %s accel offsets %d %d %d LSB to %s: %s",
@@ -525,6 +548,7 @@ static int import_locked(struct sw_backend *b, const struct sw_opts *o,
 	ret = sw_file_write_atomic(path, out, sizeof(out), !o->file, e);
 	if (ret)
 		return ret;
+	caldata_keep(b, o, env, &nf.chip, nf.payload);
 	sw_note(env, "imported %s's calibration from the board's EEPROM (%s layout, parameters at 0x%04x) to %s: %s",
 		b->name, sw_board_layout_name(cal->layout), cal->params_at,
 		path, why);
@@ -690,6 +714,57 @@ static void set_aside(const struct sw_opts *o, struct sw_env *env,
 	close(lock);
 }
 
+/*
+ * After a restore, or the finding that the driver did it: the driver's
+ * file for the next probe, so that the first boot after an upgrade from a
+ * version without it makes one. Under the writers' lock, and only while
+ * the state file still holds the len bytes of buf that were restored: a
+ * save may have replaced it (and the driver's file) meanwhile.
+ */
+static void restore_caldata(const struct sw_backend *b,
+			    const struct sw_opts *o, struct sw_env *env,
+			    const char *path, const uint8_t *buf, size_t len,
+			    const struct sw_file *f)
+{
+	uint8_t now[SW_FILE_MAX_READ + 1];
+	struct sw_err le;
+	size_t now_len;
+	int lock;
+
+	if (o->file || !b->client[0])
+		return;
+	sw_err_clear(&le);
+	lock = writers_lock(o, env, path, &le);
+	if (lock < 0) {
+		sw_note(env, "warning: %s; the driver's file for the restore at probe is not updated",
+			le.msg);
+		return;
+	}
+	if (!sw_file_read(path, read_mode(o), now, &now_len, NULL, &le) &&
+	    now_len == len && !memcmp(now, buf, len))
+		caldata_keep(b, o, env, &f->chip, f->payload);
+	close(lock);
+}
+
+/*
+ * restore --if-present through the driver: does the chip hold the file's
+ * calibration already, restored by the driver at probe (status's
+ * "restored" comparison)? A blob that cannot be read is no answer: the
+ * restore goes on.
+ */
+static bool restored_at_probe(struct sw_backend *b, const struct sw_opts *o,
+			      const struct sw_file *f)
+{
+	uint8_t blob[SW_BLOB_SIZE];
+	struct sw_err re;
+
+	if (!o->if_present || !b->client[0])
+		return false;
+	sw_err_clear(&re);
+	return !b->ops->read_blob(b, blob, &re) &&
+	       !sw_blob_restored(blob, f->payload);
+}
+
 int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 		   struct sw_env *env, struct sw_err *e)
 {
@@ -739,6 +814,13 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 		}
 		sw_note(env, "warning: %s: %s (%s); restoring anyway (--force)",
 			path, sw_check_name(c), detail);
+	} else if (restored_at_probe(b, o, &f)) {
+		sw_note(env, "%s: already restored at probe: it holds the calibration of %s (parameters %d-%d and %d-%d within %.1f %%); nothing written",
+			b->name, path, SW_PARAM_MAG_FIRST, SW_PARAM_MAG_LAST,
+			SW_PARAM_ACCEL_X, SW_PARAM_ACCEL_X + 2,
+			SW_PARAM_TOLERANCE * 100);
+		restore_caldata(b, o, env, path, buf, len, &f);
+		return SW_EXIT_OK;
 	}
 	ret = b->ops->write_blob(b, f.payload, e);
 	if (ret)
@@ -776,6 +858,7 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 			 sw_score_pct(cs.score_raw));
 	sw_note(env, "restored %s calibration from %s: level %d (%s)%s (saved: %s)",
 		b->name, path, cs.level, sw_level_name(cs.level), now, saved);
+	restore_caldata(b, o, env, path, buf, len, &f);
 	return SW_EXIT_OK;
 }
 

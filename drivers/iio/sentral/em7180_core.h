@@ -207,6 +207,8 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 			     loff_t off, size_t count);
 #if IS_ENABLED(CONFIG_KUNIT)
 int em7180_warmstart_read(struct em7180_data *data, u8 *buf);
+int em7180_caldata_apply(struct em7180_data *data, const u8 *blob,
+			 size_t size);
 #endif
 
 /* Attribute address: enum em7180_cal_attr */

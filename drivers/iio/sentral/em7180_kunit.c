@@ -1423,6 +1423,131 @@ static void em7180_test_pm_no_power_loss(struct kunit *test)
 	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &run, 1);
 }
 
+static int test_caldata_apply(struct em7180_test *t, const u8 *blob,
+			      size_t size)
+{
+	guard(mutex)(&t->data.lock);
+	return em7180_caldata_apply(&t->data, blob, size);
+}
+
+/* A saved blob: parameter n is 2.0 + n, Table 1's offsets in 27..29 */
+static void test_caldata_blob(u8 *blob)
+{
+	static const u32 table1[] = { 0xBCBBE447, 0xBBEFDC9C, 0x3CB7E4DE };
+	unsigned int i;
+
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		put_unaligned_le32(0x40000000 + i, &blob[4 * i]);
+	for (i = 0; i < ARRAY_SIZE(table1); i++)
+		put_unaligned_le32(table1[i], &blob[4 * (26 + i)]);
+}
+
+/*
+ * The restore at probe: one parameter write of all 35 and nothing else
+ * (the offsets come from the blob, not from a read), kept for a power
+ * loss, the update flags those of the state replaced.
+ */
+static void em7180_test_caldata_apply(struct kunit *test)
+{
+	static const int lsb[] = { -47, -15, 46 };
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	u8 blob[EM7180_WS_SIZE];
+	unsigned int i;
+	int val;
+
+	test_caldata_blob(blob);
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		vals[i] = get_unaligned_le32(&blob[4 * i]);
+	t->data.cal.flags = EM7180_CAL_FLAG_MAG_UPDATE;
+	t->data.cal.valid = true;
+
+	KUNIT_ASSERT_EQ(test, test_caldata_apply(t, blob, sizeof(blob)), 0);
+	KUNIT_EXPECT_EQ(test, emu->transactions, 2 * EM7180_WS_NUM_PARAMS + 4);
+	expect_bursts(test, emu, vals, EM7180_WS_NUM_PARAMS);
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		KUNIT_EXPECT_EQ_MSG(test, emu->params[i + 1], vals[i],
+				    "parameter %u", i + 1);
+	expect_ended(test, emu);
+
+	KUNIT_EXPECT_TRUE(test, t->data.ws_valid);
+	KUNIT_EXPECT_EQ(test, memcmp(t->data.ws, blob, sizeof(blob)), 0);
+	KUNIT_EXPECT_EQ(test, t->data.cal.flags, 0);
+	KUNIT_EXPECT_FALSE(test, t->data.cal.valid);
+
+	/* calibbias from the blob, without the bus */
+	emu->transactions = 0;
+	for (i = 0; i < ARRAY_SIZE(lsb); i++) {
+		KUNIT_ASSERT_EQ(test, em7180_read_calibbias(&t->data, i, &val), 0);
+		KUNIT_EXPECT_EQ(test, val, lsb[i]);
+	}
+	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
+}
+
+/*
+ * A file calibration_data would refuse (a size other than 140, a value
+ * that is no finite float) is refused before the chip is touched.
+ */
+static void em7180_test_caldata_refused(struct kunit *test)
+{
+	static const size_t sizes[] = { 0, 4, EM7180_WS_SIZE - 1,
+					EM7180_WS_SIZE + 1, 2 * EM7180_WS_SIZE };
+	static const u32 bad[] = { 0x7FC00000, 0x7F800000, 0xFF800000 };
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u8 blob[2 * EM7180_WS_SIZE];
+	unsigned int i;
+
+	test_caldata_blob(blob);
+	test_caldata_blob(&blob[EM7180_WS_SIZE]);
+	for (i = 0; i < ARRAY_SIZE(sizes); i++)
+		KUNIT_EXPECT_EQ_MSG(test, test_caldata_apply(t, blob, sizes[i]),
+				    -EINVAL, "%zu bytes", sizes[i]);
+	for (i = 0; i < ARRAY_SIZE(bad); i++) {
+		test_caldata_blob(blob);
+		put_unaligned_le32(bad[i], &blob[4 * (11 * i + 4)]);
+		KUNIT_EXPECT_EQ_MSG(test, test_caldata_apply(t, blob, EM7180_WS_SIZE),
+				    -EINVAL, "0x%08x", bad[i]);
+	}
+	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
+	KUNIT_EXPECT_FALSE(test, t->data.ws_valid);
+	KUNIT_EXPECT_FALSE(test, t->data.accel_offset_valid);
+}
+
+/*
+ * A transfer that fails: nothing kept for a power loss; after a bus error
+ * the offsets are read back (the chip may hold some of the new ones),
+ * after a timeout they stay unknown.
+ */
+static void em7180_test_caldata_fails(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u8 blob[EM7180_WS_SIZE];
+	int val;
+
+	test_caldata_blob(blob);
+	emu->ack_never = true;
+	KUNIT_EXPECT_EQ(test, test_caldata_apply(t, blob, sizeof(blob)),
+			-ETIMEDOUT);
+	/* Ended; two seconds of polls may have filled the log */
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_PARAM_REQ], 0);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
+	KUNIT_EXPECT_FALSE(test, t->data.ws_valid);
+	KUNIT_EXPECT_EQ(test, em7180_read_calibbias(&t->data, 0, &val), -ENODATA);
+
+	emu->ack_never = false;
+	emu->transactions = 0;
+	emu->n_log = 0;
+	emu->nack_at = 20;
+	KUNIT_EXPECT_EQ(test, test_caldata_apply(t, blob, sizeof(blob)), -EIO);
+	expect_ended(test, emu);
+	KUNIT_EXPECT_FALSE(test, t->data.ws_valid);
+	KUNIT_ASSERT_EQ(test, em7180_read_calibbias(&t->data, 0, &val), 0);
+	KUNIT_EXPECT_EQ(test, val, 0);
+}
+
 /* A .fw image of @len bytes of text 0x00, 0x01, ... and its CRC field */
 static struct firmware *test_upload_image(struct kunit *test, u16 len,
 					  u32 crc)
@@ -1653,6 +1778,9 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_recover_suspend),
 	KUNIT_CASE(em7180_test_calibbias_copy),
 	KUNIT_CASE(em7180_test_warmstart_fuzz),
+	KUNIT_CASE(em7180_test_caldata_apply),
+	KUNIT_CASE(em7180_test_caldata_refused),
+	KUNIT_CASE(em7180_test_caldata_fails),
 	{ }
 };
 

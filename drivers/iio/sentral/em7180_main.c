@@ -16,6 +16,7 @@
 #include <linux/delay.h>
 #include <linux/device.h>
 #include <linux/errno.h>
+#include <linux/firmware.h>
 #include <linux/interrupt.h>
 #include <linux/iopoll.h>
 #include <linux/jiffies.h>
@@ -28,6 +29,7 @@
 #include <linux/pm.h>
 #include <linux/regmap.h>
 #include <linux/regulator/consumer.h>
+#include <linux/slab.h>
 #include <linux/string.h>
 #include <linux/sysfs.h>
 #include <linux/types.h>
@@ -1382,6 +1384,98 @@ static void em7180_unbind_action(void *arg)
 		dev_warn(data->dev, "chip not left running\n");
 }
 
+/**
+ * em7180_caldata_apply() - restore a saved calibration file's blob
+ * @data: driver state, with @data->lock held
+ * @blob: the file's content: the blob as calibration_data reads it
+ * @size: its size
+ *
+ * Checked as a calibration_data write before the chip is touched; once
+ * written it is the warm start a power loss brings back, and its
+ * parameters 27..29 are the accelerometer offsets.
+ *
+ * Return: 0, -EINVAL for a blob calibration_data would refuse, or the
+ * error of the parameter transfer.
+ */
+VISIBLE_IF_KUNIT int em7180_caldata_apply(struct em7180_data *data,
+					  const u8 *blob, size_t size)
+{
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	unsigned int i;
+	int ret;
+
+	lockdep_assert_held(&data->lock);
+
+	ret = em7180_warmstart_check(blob, 0, size, true);
+	if (ret)
+		return ret;
+
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		vals[i] = get_unaligned_le32(&blob[4 * i]);
+	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
+				  EM7180_WS_NUM_PARAMS, vals);
+	if (ret) {
+		em7180_accel_offset_refresh(data, ret);
+		return ret;
+	}
+
+	em7180_ws_set(data, vals);
+	em7180_cal_saved(data);
+	return 0;
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_caldata_apply);
+
+/*
+ * The calibration sentral-warmstart saved for this chip and its firmware,
+ * restored before the device is registered, so that no consumer ever sees
+ * the chip uncalibrated; bno055 loads its calibration file the same way.
+ * The versions in the name keep another firmware's file away. No file is
+ * the first boot; a bad one, or a failed transfer, is said and probe goes
+ * on. Without a restore the offsets are read: calibbias reads fail until
+ * a transfer brings them, streaming works without.
+ */
+static void em7180_caldata_restore(struct em7180_data *data)
+{
+	struct device *dev = data->dev;
+	const struct firmware *fw;
+	int ret = -ENOMEM;
+
+	char *name __free(kfree) = kasprintf(GFP_KERNEL,
+					     "em7180/caldata-%04x-%04x-%s.bin",
+					     data->rom_version,
+					     data->ram_version, dev_name(dev));
+	if (name)
+		ret = firmware_request_nowarn(&fw, name, dev);
+	if (ret == -ENOENT)
+		dev_dbg(dev, "no saved calibration %s\n", name);
+	else if (ret && name)
+		dev_warn(dev, "cannot load %s: %d\n", name, ret);
+	if (!ret) {
+		scoped_guard(em7180, data)
+			ret = em7180_caldata_apply(data, fw->data, fw->size);
+		if (!ret)
+			dev_info(dev, "restored calibration from %s\n", name);
+		else if (ret != -EINVAL)
+			dev_warn(dev, "%s: calibration not restored: %d\n",
+				 name, ret);
+		else if (fw->size != EM7180_WS_SIZE)
+			dev_warn(dev, "%s: %zu bytes, not %u: calibration not restored\n",
+				 name, fw->size, EM7180_WS_SIZE);
+		else
+			dev_warn(dev, "%s: a value is not a finite float: calibration not restored\n",
+				 name);
+		release_firmware(fw);
+		/* After a failed transfer the offsets were read back */
+		if (ret != -EINVAL)
+			return;
+	}
+
+	guard(em7180)(data);
+	ret = em7180_accel_offset_fetch(data);
+	if (ret)
+		dev_warn(dev, "cannot read the accelerometer offsets: %d\n", ret);
+}
+
 /*
  * Another ID may be a compatible part: say so and go on, as bno055 does.
  * The first access after power-on may come while the chip still resets.
@@ -1509,25 +1603,19 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
-	/*
-	 * Streaming works without either: the score is left out, calibbias
-	 * reads fail until a transfer
-	 */
+	/* Streaming works without: the score is left out */
 	scoped_guard(em7180, data) {
 		ret = em7180_cal_detect(data);
 		if (ret)
 			dev_warn(dev, "cannot read the calibration registers: %d\n",
 				 ret);
 		data->appnote_attrs = data->appnote;
-		ret = em7180_accel_offset_fetch(data);
-		if (ret)
-			dev_warn(dev, "cannot read the accelerometer offsets: %d\n",
-				 ret);
 	}
 	dev_info(dev, "firmware ROM 0x%04x RAM 0x%04x from %s, calibration %s\n",
 		 data->rom_version, data->ram_version,
 		 data->fw ? "the host" : "EEPROM",
 		 data->appnote ? "with score" : "from AlgorithmStatus");
+	em7180_caldata_restore(data);
 
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;

@@ -235,6 +235,8 @@ void fake_init(struct fake_be *f, struct fake_clock *clk)
 	f->b.kind = "fake";
 	strcpy(f->b.name, "iio:device0");
 	strcpy(f->b.key, "platform-sentral-sim-0x28");
+	/* The driver backend: the I2C client names the driver's file */
+	strcpy(f->b.client, "1-0028");
 	f->clk = clk;
 	f->chip.product_id = 0x80;
 	f->chip.revision_id = 0x02;

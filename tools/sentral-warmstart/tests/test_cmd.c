@@ -3,6 +3,7 @@
  * Unit tests: save, restore, status, show, calibrate and accel-cal against
  * a fake chip and a fake clock.
  */
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -2200,6 +2201,337 @@ static void test_watch_idle_reads_level(void **state)
 	assert_memory_equal(before, after, SW_FILE_SIZE);
 }
 
+/* STATE/firmware/NAME, the directory the driver's files live in. */
+static void fw_path(struct ctx *c, const char *name, char *out, size_t len)
+{
+	snprintf(out, len, "%s/firmware%s%s", c->dir, *name ? "/" : "", name);
+}
+
+/* Does the driver's file NAME hold exactly blob? */
+static bool caldata_holds(struct ctx *c, const char *name, const uint8_t *blob)
+{
+	uint8_t buf[SW_BLOB_SIZE + 1];
+	char path[256];
+	ssize_t n;
+	int fd;
+
+	fw_path(c, name, path, sizeof(path));
+	fd = open(path, O_RDONLY | O_NOFOLLOW);
+	if (fd < 0)
+		return false;
+	n = read(fd, buf, sizeof(buf));
+	close(fd);
+	return n == SW_BLOB_SIZE && !memcmp(buf, blob, SW_BLOB_SIZE);
+}
+
+static bool fw_exists(struct ctx *c, const char *name)
+{
+	char path[256];
+	struct stat st;
+
+	fw_path(c, name, path, sizeof(path));
+	return lstat(path, &st) == 0;
+}
+
+static void fw_touch(struct ctx *c, const char *name)
+{
+	char path[256];
+	int fd;
+
+	fw_path(c, name, path, sizeof(path));
+	fd = open(path, O_WRONLY | O_CREAT | O_EXCL, 0600);
+	assert_true(fd >= 0);
+	close(fd);
+}
+
+/* Entries of STATE/firmware, "." and ".." left out. */
+static int fw_count(struct ctx *c)
+{
+	char path[256];
+	struct dirent *de;
+	DIR *d;
+	int n = 0;
+
+	fw_path(c, "", path, sizeof(path));
+	d = opendir(path);
+	if (!d)
+		return -1;
+	while ((de = readdir(d)))
+		n += strcmp(de->d_name, ".") && strcmp(de->d_name, "..");
+	closedir(d);
+	return n;
+}
+
+#define CALDATA "caldata-09e6-0c05-1-0028.bin"
+
+/*
+ * Every save also writes the file the driver restores at probe: the saved
+ * file's payload, named by ROM, RAM and the I2C client, 0600 in a 0700
+ * directory; the files of the same client for other firmware go, other
+ * clients' and other names stay.
+ */
+static void test_caldata_on_save(void **state)
+{
+	struct ctx *c = *state;
+	char path[256], target[256];
+	struct sw_file f;
+	struct stat st;
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_true(caldata_holds(c, CALDATA, f.payload));
+	fw_path(c, CALDATA, path, sizeof(path));
+	assert_int_equal(stat(path, &st), 0);
+	assert_int_equal(st.st_mode & 0777, 0600);
+	fw_path(c, "", path, sizeof(path));
+	assert_int_equal(stat(path, &st), 0);
+	assert_int_equal(st.st_mode & 0777, 0700);
+	assert_int_equal(fw_count(c), 1);
+
+	/* A firmware update (RAM 0x0c06), then a better calibration. */
+	fw_touch(c, "caldata-09e6-0c04-1-0028.bin");
+	fw_touch(c, "caldata-07a8-0c05-1-0028.bin");
+	fw_touch(c, "caldata-09e6-0c05-11-0028.bin");
+	fw_touch(c, "caldata-09e6-0c05-1-0028.bin.orig");
+	fw_touch(c, "caldata-9e6-0c05-1-0028.bin");
+	fw_touch(c, "caldata-09E6-0c05-1-0028.bin");
+	snprintf(target, sizeof(target), "%s/target", c->dir);
+	fw_path(c, "caldata-09e6-0c03-1-0028.bin", path, sizeof(path));
+	assert_int_equal(symlink(target, path), 0);
+	assert_non_null(fopen(target, "w"));
+	c->fb.chip.ram_version = 0x0c06;
+	c->fb.cs.score_raw = sw_score_raw(1.5);
+	sw_blob_set_param(c->fb.blob, 18, 42.0f);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_true(caldata_holds(c, "caldata-09e6-0c06-1-0028.bin", f.payload));
+	assert_false(fw_exists(c, CALDATA));
+	assert_false(fw_exists(c, "caldata-09e6-0c04-1-0028.bin"));
+	assert_false(fw_exists(c, "caldata-07a8-0c05-1-0028.bin"));
+	assert_false(fw_exists(c, "caldata-09e6-0c03-1-0028.bin"));
+	assert_int_equal(access(target, F_OK), 0);
+	assert_true(fw_exists(c, "caldata-09e6-0c05-11-0028.bin"));
+	assert_true(fw_exists(c, "caldata-09e6-0c05-1-0028.bin.orig"));
+	assert_true(fw_exists(c, "caldata-9e6-0c05-1-0028.bin"));
+	assert_true(fw_exists(c, "caldata-09E6-0c05-1-0028.bin"));
+	assert_int_equal(fw_count(c), 5);
+}
+
+/* An offsets save and an import: the new state file's payload. */
+static void test_caldata_follows_file(void **state)
+{
+	static uint8_t img[SW_BOARD_EEPROM_SIZE];
+	struct ctx *c = *state;
+	struct sw_file f;
+
+	c->fb.cs.score_raw = sw_score_raw(2.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->fb.cs.score_raw = sw_score_raw(4.0);
+	sw_blob_set_param(c->fb.blob, 18, 99.0f);
+	c->fb.offset[0] = -47;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "saved iio:device0 accel offsets -47 0 0 LSB"));
+	assert_true(load(c, &f));
+	assert_true(sw_blob_param(f.payload, 18) == 9.0f);
+	assert_true(caldata_holds(c, CALDATA, f.payload));
+
+	fake_board_image(img, SW_BOARD_GT);
+	assert_int_equal(import_image(c, img, sizeof(img), SW_BOARD_GT, true),
+			 SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.judgement, SW_JUDGED_NONE);
+	assert_true(caldata_holds(c, CALDATA, f.payload));
+	assert_int_equal(fw_count(c), 1);
+}
+
+/*
+ * Only the state file has one (the unit restores that one), only with the
+ * driver (over i2c-dev no driver probes).
+ */
+static void test_caldata_not_for_file_or_i2c(void **state)
+{
+	struct ctx *c = *state;
+	char other[160];
+
+	snprintf(other, sizeof(other), "%s/mine.ws", c->dir);
+	c->o.file = other;
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_int_equal(access(other, F_OK), 0);
+	c->o.file = NULL;
+	c->fb.b.client[0] = '\0';
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_int_equal(access(c->path, F_OK), 0);
+	assert_int_equal(fw_count(c), -1);
+	c->o.if_present = true;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(fw_count(c), -1);
+}
+
+/*
+ * Never through a symlink, the directory's or the file's; the save of the
+ * state file stands, with a warning that the driver cannot restore it.
+ */
+static void test_caldata_refuses_symlink(void **state)
+{
+	struct ctx *c = *state;
+	char elsewhere[160], path[256], target[160];
+	struct sw_file f;
+
+	snprintf(elsewhere, sizeof(elsewhere), "%s/elsewhere", c->dir);
+	assert_int_equal(mkdir(elsewhere, 0700), 0);
+	fw_path(c, "", path, sizeof(path));
+	assert_int_equal(symlink(elsewhere, path), 0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_non_null(strstr(out_text(c), "warning: "));
+	assert_non_null(strstr(out_text(c), "symbolic link"));
+	assert_non_null(strstr(out_text(c), "the driver cannot restore this calibration at probe"));
+	assert_int_equal(rmdir(elsewhere), 0);
+
+	assert_int_equal(unlink(path), 0);
+	assert_int_equal(mkdir(path, 0700), 0);
+	snprintf(target, sizeof(target), "%s/target", c->dir);
+	fw_path(c, CALDATA, path, sizeof(path));
+	assert_int_equal(symlink(target, path), 0);
+	c->fb.cs.score_raw = sw_score_raw(1.0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	assert_int_equal(f.score_raw, sw_score_raw(1.0));
+	assert_int_equal(access(target, F_OK), -1);
+	assert_non_null(strstr(out_text(c), CALDATA ": is a symbolic link"));
+}
+
+/*
+ * restore --if-present after the driver restored at probe: the chip holds
+ * the file's calibration (parameters 18..23 and 27..29 within the
+ * tolerance), nothing is written, exit 0. Anything else restores as
+ * before; without --if-present (a user's restore) it always writes.
+ */
+static void test_restore_already_at_probe(void **state)
+{
+	struct ctx *c = *state;
+	uint8_t saved[SW_BLOB_SIZE];
+	int reads;
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	memcpy(saved, c->fb.blob, SW_BLOB_SIZE);
+	c->o.if_present = true;
+	reads = c->fb.reads;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 0);
+	assert_int_equal(c->fb.reads, reads + 1);
+	assert_non_null(strstr(out_text(c), "iio:device0: already restored at probe: it holds the calibration of "));
+	assert_non_null(strstr(out_text(c), "(parameters 18-23 and 27-29 within 0.5 %); nothing written"));
+
+	/* Within the tolerance, and a parameter that is not compared */
+	sw_blob_set_param(c->fb.blob, 20, sw_blob_param(saved, 20) * 1.004f);
+	sw_blob_set_param(c->fb.blob, 33, 1234.0f);
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 0);
+
+	/* Beyond it: restored */
+	sw_blob_set_param(c->fb.blob, 20, sw_blob_param(saved, 20) * 1.006f);
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 1);
+	assert_memory_equal(c->fb.blob, saved, SW_BLOB_SIZE);
+
+	/* The accel offsets too: 0.0244 g is beyond 0.005 g */
+	c->fb.offset[2] = 50;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 2);
+
+	/* A user's restore writes whatever the chip holds */
+	c->o.if_present = false;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 3);
+
+	/* Over i2c-dev there was no probe */
+	c->o.if_present = true;
+	c->fb.b.client[0] = '\0';
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 4);
+}
+
+/*
+ * The first boot after an upgrade from a version without the driver's
+ * file: restore writes it, whether it restored or found the chip holding
+ * the calibration (a reboot that kept the chip powered).
+ */
+static void test_restore_writes_caldata(void **state)
+{
+	struct ctx *c = *state;
+	char path[256];
+	struct sw_file f;
+	FILE *fp;
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_true(load(c, &f));
+	fw_path(c, CALDATA, path, sizeof(path));
+	assert_int_equal(unlink(path), 0);
+	fw_touch(c, "caldata-09e6-0c04-1-0028.bin");
+	memset(c->fb.blob, 0, SW_BLOB_SIZE);
+	c->fb.cs.level = 2;
+	c->o.if_present = true;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 1);
+	assert_true(caldata_holds(c, CALDATA, f.payload));
+	assert_int_equal(fw_count(c), 1);
+
+	assert_int_equal(unlink(path), 0);
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "already restored at probe"));
+	assert_int_equal(c->fb.writes, 1);
+	assert_true(caldata_holds(c, CALDATA, f.payload));
+
+	/* A bad state file: the driver's file is left as it is */
+	fp = fopen(c->path, "r+");
+	assert_non_null(fp);
+	assert_int_equal(fseek(fp, 100, SEEK_SET), 0);
+	assert_int_equal(fputc(0x5a, fp), 0x5a);
+	assert_int_equal(fclose(fp), 0);
+	c->o.if_present = false;
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_true(caldata_holds(c, CALDATA, f.payload));
+}
+
+/* A save that replaced the state file while restore ran: its file stays. */
+static void replace_state_file(struct fake_be *fb)
+{
+	struct ctx *c = fb->data;
+	uint8_t out[SW_FILE_SIZE];
+	struct sw_file nf;
+	struct sw_err e;
+
+	memset(&nf, 0, sizeof(nf));
+	nf.chip = fb->chip;
+	nf.version = SW_FILE_VERSION;
+	nf.state = 4;
+	nf.judgement = SW_JUDGED_STABLE;
+	fake_fill_blob(nf.payload);
+	sw_blob_set_param(nf.payload, 18, 77.0f);
+	sw_file_encode(&nf, out);
+	sw_err_clear(&e);
+	assert_int_equal(sw_file_write_atomic(c->path, out, sizeof(out), true, &e),
+			 SW_EXIT_OK);
+	fb->on_chip_info = NULL;
+}
+
+static void test_restore_caldata_after_save(void **state)
+{
+	struct ctx *c = *state;
+	char path[256];
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	fw_path(c, CALDATA, path, sizeof(path));
+	assert_int_equal(unlink(path), 0);
+	memset(c->fb.blob, 0, SW_BLOB_SIZE);
+	c->fb.data = c;
+	c->fb.on_chip_info = replace_state_file;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 1);
+	assert_false(fw_exists(c, CALDATA));
+}
+
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
 
 int main(void)
@@ -2263,6 +2595,13 @@ int main(void)
 		T(test_watch_stable_save_retried),
 		T(test_watch_stable_look_retried),
 		T(test_watch_idle_reads_level),
+		T(test_caldata_on_save),
+		T(test_caldata_follows_file),
+		T(test_caldata_not_for_file_or_i2c),
+		T(test_caldata_refuses_symlink),
+		T(test_restore_already_at_probe),
+		T(test_restore_writes_caldata),
+		T(test_restore_caldata_after_save),
 	};
 
 	return cmocka_run_group_tests_name("commands", tests, NULL, NULL);
