@@ -8,9 +8,9 @@
 # file, and status says the chip holds it); a
 # corrupted file is refused at probe with the message in the kernel log,
 # the chip left alone and the file moved aside, after which the next good
-# calibration is saved and restored. The watcher the rule starts without
-# systemd: detached, one per chip, saves a new calibration by itself, exits
-# when the device goes. With systemd (simulated): the device
+# calibration is saved and restored. The rule starts no watcher; one started
+# by hand (watch --daemon): detached, one per chip, saves a new calibration
+# by itself, exits when the device goes. With systemd (simulated): the device
 # names its units by the key and binds them through an alias whose name
 # matches the units' BindsTo=; the units pass systemd-analyze verify.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
@@ -72,24 +72,33 @@ udevadm settle --timeout=10
 is "level 4 (stable) without motion" "$(cal_level)" 4
 is "the chip holds the new file's payload" "$(sim_ws_params)" "$(file_payload_words "$f")"
 
-# Without systemd the rule starts the watcher too (watch --daemon): detached
-# from udev, one per chip, it saves by itself once the calibration is
-# stable, and exits when the device goes away.
+# Without systemd the rule restores and starts nothing else: udev(7)
+# forbids long-running processes from RUN. A watcher started by hand
+# (watch --daemon): detached, one per chip (a second replaces the first),
+# saves a new calibration by itself, exits when the device goes and on
+# SIGTERM.
 watchfile=/run/sentral-warmstart/$key.watch
 watcher() { cat "$watchfile" 2>/dev/null; }
 alive() { [ -n "$1" ] && kill -0 "$1" 2>/dev/null; }
 gone() { ! alive "$1"; }
-watchers() { ps -eo args | grep -c '[s]entral-warmstart .*watch --daemon'; }
-w1=$(watcher)
-ok "a watcher runs since the last probe (pid $w1 in $watchfile)" alive "$w1"
-is "detached from udev: its parent is init" "$(ps -o ppid= -p "$w1" | tr -d ' ')" 1
-is "one watcher for the chip" "$(watchers)" 1
+watchers() { ps -eo args | grep -c '[s]entral-warmstart .*watch'; }
 mv "$f" /tmp/before-watch.ws
-ok "replug: the probe starts a watcher again" replug "$client"
-ok "udev's event ends at once (the rule's programs returned)" \
-	udevadm settle --timeout=10
-# The watcher writes its pid once it holds the lock, after udev is done.
+ok "replug with no saved file: the chip starts uncalibrated" replug "$client"
+udevadm settle --timeout=10
+# A watcher the rule started would hold its lock after udev is done.
+sleep 2
+is "the rule started no watcher at the five probes" "$(watchers)" 0
+nok "... nor left a watcher's lock" test -e "$watchfile"
+is "the chip is calibrating (level 2)" "$(cal_level)" 2
+ok "watch --daemon by hand returns at once" \
+	timeout 10 sentral-warmstart --device "$key" watch --daemon
+# The watcher writes its pid once it holds the lock.
 new_watcher() { [ "$(watcher)" != "$1" ] && alive "$(watcher)"; }
+ok "a watcher holds the lock $watchfile" wait_for 10 new_watcher ""
+w1=$(watcher)
+is "detached: its parent is init" "$(ps -o ppid= -p "$w1" | tr -d ' ')" 1
+is "one watcher for the chip" "$(watchers)" 1
+ok "watch --daemon again" sentral-warmstart --device "$key" watch --daemon
 ok "a new watcher holds the lock" wait_for 10 new_watcher "$w1"
 w2=$(watcher)
 like "replacing the old one" "$(dmesg)" \
@@ -110,10 +119,14 @@ wait_for 5 em7180_dir >/dev/null
 udevadm settle --timeout=10
 restored() { [ "$(cal_level)" = 4 ]; }
 ok "bound again: restored at probe" wait_for 5 restored
-ok "and watched again" wait_for 10 new_watcher "$w2"
+sleep 2
+is "and no watcher started by the rule" "$(watchers)" 0
+ok "watch --daemon by hand again" sentral-warmstart --device "$key" watch --daemon
+ok "a watcher holds the lock" wait_for 10 new_watcher "$w2"
 w3=$(watcher)
 kill "$w3"
 ok "a watcher stops on SIGTERM" wait_for 10 gone "$w3"
+is "none left" "$(watchers)" 0
 
 # With systemd running, the rule hands over to the units instead.
 mkdir -p /run/systemd/system
