@@ -101,6 +101,9 @@ int sw_caldata_write(const char *state_dir, const struct sw_chip_info *chip,
 			return ret;
 		if (wrote)
 			*wrote = true;
+	} else {
+		/* A save killed while it wrote the file left its temp file */
+		sw_file_remove_stale_temps(path);
 	}
 	return remove_others(dir, name, dev, e);
 }

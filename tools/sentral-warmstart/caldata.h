@@ -28,8 +28,8 @@ bool sw_caldata_name(const struct sw_chip_info *chip, const char *dev,
  * Make STATE_DIR/firmware/caldata-RRRR-MMMM-DEV.bin hold blob: written
  * atomically (sw_file_write_atomic(), mode 0600, the directory 0700 and
  * created when missing, never through a symlink) unless it holds blob
- * already; then every caldata-*-DEV.bin of other versions for the same DEV
- * is removed. *wrote (may be NULL) says whether the file was written.
+ * already (then a killed save's temporary file of it is removed); then every
+ * caldata-*-DEV.bin of other versions for the same DEV is removed. *wrote (may be NULL) says whether the file was written.
  * Returns SW_EXIT_OK or an exit code with e->msg set.
  */
 int sw_caldata_write(const char *state_dir, const struct sw_chip_info *chip,

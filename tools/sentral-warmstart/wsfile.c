@@ -614,6 +614,23 @@ static void remove_stale_temps(int dfd, const char *base)
 	closedir(d);
 }
 
+void sw_file_remove_stale_temps(const char *path)
+{
+	char dir[4096];
+	const char *base;
+	struct sw_err e;
+	int dfd;
+
+	sw_err_clear(&e);
+	if (split_path(path, dir, sizeof(dir), &base, &e))
+		return;
+	dfd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+	if (dfd < 0)
+		return;
+	remove_stale_temps(dfd, base);
+	close(dfd);
+}
+
 int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
 			 bool state_dir, struct sw_err *e)
 {

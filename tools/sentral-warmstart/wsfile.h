@@ -184,6 +184,13 @@ int sw_file_write_atomic(const char *path, const uint8_t *buf, size_t len,
 			 bool state_dir, struct sw_err *e);
 
 /*
+ * Remove what saves of path killed before their rename left behind, as
+ * sw_file_write_atomic() does before it writes: for a file that is not
+ * written every time. Best effort: errors are ignored.
+ */
+void sw_file_remove_stale_temps(const char *path);
+
+/*
  * Writers of one file (save, watch, calibrate, accel-cal, restore setting
  * a refused file aside) take an flock(2) on its lock file ".BASE.lock" in
  * the same directory, so that the policy's look at the old file and the

@@ -2317,6 +2317,26 @@ static void test_caldata_on_save(void **state)
 	assert_int_equal(fw_count(c), 5);
 }
 
+/*
+ * A save killed while it wrote the driver's file leaves its temporary file;
+ * the next save removes it even when the driver's file holds its blob
+ * already and is not written again.
+ */
+static void test_caldata_stale_temp(void **state)
+{
+	struct ctx *c = *state;
+	struct timespec old[2] = { { .tv_sec = 1 }, { .tv_sec = 1 } };
+	char path[256];
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	fw_touch(c, "." CALDATA ".0badcafe.tmp");
+	fw_path(c, "." CALDATA ".0badcafe.tmp", path, sizeof(path));
+	assert_int_equal(utimensat(AT_FDCWD, path, old, 0), 0);
+	assert_int_equal(save(c), SW_EXIT_OK);
+	assert_false(fw_exists(c, "." CALDATA ".0badcafe.tmp"));
+	assert_int_equal(fw_count(c), 1);
+}
+
 /* An offsets save and an import: the new state file's payload. */
 static void test_caldata_follows_file(void **state)
 {
@@ -2596,6 +2616,7 @@ int main(void)
 		T(test_watch_stable_look_retried),
 		T(test_watch_idle_reads_level),
 		T(test_caldata_on_save),
+		T(test_caldata_stale_temp),
 		T(test_caldata_follows_file),
 		T(test_caldata_not_for_file_or_i2c),
 		T(test_caldata_refuses_symlink),
