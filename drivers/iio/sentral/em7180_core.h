@@ -122,7 +122,7 @@ struct em7180_data {
 	/* Parameter transfer: learned acknowledge wait, register order */
 	unsigned int ack_wait_us;
 	unsigned int ack_min_us;
-	bool param_single;
+	bool ptr_stops;		/* em7180_param_pointer() */
 	struct em7180_cal cal;
 	u8 product_id;
 	u8 revision_id;
@@ -182,6 +182,7 @@ void em7180_lock(struct em7180_data *data);
 DEFINE_GUARD(em7180, struct em7180_data *, em7180_lock(_T),
 	     mutex_unlock(&_T->lock))
 
+int em7180_param_pointer(struct em7180_data *data);
 int em7180_params_read(struct em7180_data *data, unsigned int first,
 		       unsigned int count, u32 *vals);
 int em7180_params_write(struct em7180_data *data, unsigned int first,

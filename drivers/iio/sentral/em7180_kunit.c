@@ -572,11 +572,17 @@ static void em7180_test_param_nack(struct kunit *test)
 	}
 }
 
+/* The pointer check writes two bytes at 0x63, and reads 0x63 back */
+static int test_pointer(struct em7180_test *t)
+{
+	guard(mutex)(&t->data.lock);
+	return em7180_param_pointer(&t->data);
+}
+
 /*
- * A register pointer that stops at 0x3A: the first read whose value
- * bytes repeat the echo is checked, the driver switches to the reference
- * hosts' order and reads the right values, and the calibration flags are
- * not taken from the repeated byte.
+ * A register pointer that stops at 0x3A and 0x63, found at probe: reads
+ * in the reference hosts' order return the right values, and the
+ * calibration flags are not taken from a repeated byte.
  */
 static void em7180_test_param_autoinc_read(struct kunit *test)
 {
@@ -586,6 +592,9 @@ static void em7180_test_param_autoinc_read(struct kunit *test)
 	unsigned int i;
 
 	emu->autoinc_stop = true;
+	KUNIT_ASSERT_EQ(test, test_pointer(t), 0);
+	KUNIT_EXPECT_TRUE(test, t->data.ptr_stops);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_PARAM_REQ], 0);
 	emu->regs[EM7180_REG_PARAM_ACK] = EM7180_CAL_FLAG_MAG_UPDATE |
 					  EM7180_CAL_FLAG_GBIAS_UPDATE;
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
@@ -599,16 +608,15 @@ static void em7180_test_param_autoinc_read(struct kunit *test)
 						sizeof(vals)));
 		expect_ended(test, emu);
 	}
-	KUNIT_EXPECT_TRUE(test, t->data.param_single);
 	KUNIT_EXPECT_EQ(test, t->data.cal.flags, 0);
 	/* request, poll, value: one more per parameter, and the cal block */
 	KUNIT_EXPECT_EQ(test, emu->transactions, 3 * EM7180_WS_NUM_PARAMS + 5);
 }
 
 /*
- * A pointer that stops at 0x63: the first burst write is never
- * acknowledged, the transfer runs again one register at a time and the
- * chip holds every value.
+ * A pointer that stops at 0x63: writes go one register at a time, with no
+ * burst waiting for an acknowledge that cannot come, and the chip holds
+ * every value.
  */
 static void em7180_test_param_autoinc_write(struct kunit *test)
 {
@@ -621,9 +629,11 @@ static void em7180_test_param_autoinc_write(struct kunit *test)
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 		in[i] = 0xBC000000 + i;
 
+	KUNIT_ASSERT_EQ(test, test_pointer(t), 0);
+	emu->transactions = 0;
 	KUNIT_ASSERT_EQ(test, test_params_write(t, 1, EM7180_WS_NUM_PARAMS, in), 0);
 	KUNIT_EXPECT_TRUE(test, !memcmp(in, &emu->params[1], sizeof(in)));
-	KUNIT_EXPECT_TRUE(test, t->data.param_single);
+	KUNIT_EXPECT_LE(test, emu->transactions, 3 * EM7180_WS_NUM_PARAMS + 5);
 	expect_ended(test, emu);
 
 	emu->n_log = 0;
@@ -634,17 +644,20 @@ static void em7180_test_param_autoinc_write(struct kunit *test)
 	expect_xfer(test, emu, 3, true, EM7180_REG_PARAM_REQ, NULL, 1);
 }
 
-/* A chip that follows the burst: a value that repeats the echo is real */
+/* A pointer that crosses: one burst each way, even for an echo-like value */
 static void em7180_test_param_echo_value(struct kunit *test)
 {
 	struct em7180_test *t = test->priv;
 	struct em7180_emu *emu = &t->emu;
 	u32 val;
 
+	KUNIT_ASSERT_EQ(test, test_pointer(t), 0);
+	KUNIT_EXPECT_FALSE(test, t->data.ptr_stops);
 	emu->params[3] = 0x03030303;
+	emu->transactions = 0;
 	KUNIT_ASSERT_EQ(test, test_params_read(t, 3, 1, &val), 0);
 	KUNIT_EXPECT_EQ(test, val, 0x03030303U);
-	KUNIT_EXPECT_FALSE(test, t->data.param_single);
+	KUNIT_EXPECT_EQ(test, emu->transactions, 2 + 4U);
 }
 
 static void em7180_test_param_range(struct kunit *test)

@@ -1603,6 +1603,11 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
+	scoped_guard(em7180, data)
+		ret = em7180_param_pointer(data);
+	if (ret)
+		return dev_err_probe(dev, ret, "failed to probe the register pointer\n");
+
 	/* Streaming works without: the score is left out */
 	scoped_guard(em7180, data) {
 		ret = em7180_cal_detect(data);
