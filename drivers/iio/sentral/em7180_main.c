@@ -1348,9 +1348,6 @@ static int em7180_standby(struct em7180_data *data)
 
 	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
 			   EM7180_ALGO_CTRL_STANDBY);
-	if (ret)
-		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
-				   EM7180_ALGO_CTRL_STANDBY);
 	if (!ret)
 		ret = regmap_read_poll_timeout(data->regmap,
 					       EM7180_REG_ALGO_STATUS, status,

@@ -46,19 +46,6 @@
 #define EM7180_PASSTHRU_POLL_US		1000
 #define EM7180_PASSTHRU_TIMEOUT_US	1000000
 
-/* Bus errors are retried once, as the end of a parameter transfer does */
-static int em7180_passthru_write(struct em7180_data *data, unsigned int reg,
-				 unsigned int val)
-{
-	int ret;
-
-	ret = regmap_write(data->regmap, reg, val);
-	if (ret)
-		ret = regmap_write(data->regmap, reg, val);
-
-	return ret;
-}
-
 static int em7180_passthru_wait(struct em7180_data *data, unsigned int reg,
 				unsigned int bit, bool set)
 {
@@ -80,10 +67,10 @@ VISIBLE_IF_KUNIT int em7180_passthru_select(struct i2c_mux_core *muxc,
 	guard(em7180)(data);
 	WRITE_ONCE(data->passthru, true);
 
-	ret = em7180_passthru_write(data, EM7180_REG_ALGO_CTRL,
-				    EM7180_ALGO_CTRL_STANDBY) ?:
-	      em7180_passthru_write(data, EM7180_REG_PASSTHRU_CTRL,
-				    EM7180_PASSTHRU_ON) ?:
+	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
+			   EM7180_ALGO_CTRL_STANDBY) ?:
+	      regmap_write(data->regmap, EM7180_REG_PASSTHRU_CTRL,
+			   EM7180_PASSTHRU_ON) ?:
 	      em7180_passthru_wait(data, EM7180_REG_PASSTHRU_STATUS,
 				   EM7180_PASSTHRU_ON, true);
 	if (ret)
@@ -108,12 +95,12 @@ VISIBLE_IF_KUNIT int em7180_passthru_deselect(struct i2c_mux_core *muxc,
 	int ret;
 
 	guard(mutex)(&data->lock);
-	ret = em7180_passthru_write(data, EM7180_REG_PASSTHRU_CTRL, 0) ?:
+	ret = regmap_write(data->regmap, EM7180_REG_PASSTHRU_CTRL, 0) ?:
 	      em7180_passthru_wait(data, EM7180_REG_PASSTHRU_STATUS,
 				   EM7180_PASSTHRU_ON, false);
 	WRITE_ONCE(data->xfer_seq, data->xfer_seq + 1);
 	if (!ret)
-		ret = em7180_passthru_write(data, EM7180_REG_ALGO_CTRL, 0) ?:
+		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0) ?:
 		      em7180_passthru_wait(data, EM7180_REG_ALGO_STATUS,
 					   EM7180_ALGO_STATUS_HALTED, false);
 	if (!ret)
