@@ -18,6 +18,8 @@
 #include <linux/wait.h>
 #include <linux/workqueue.h>
 
+#include "em7180_compat.h"
+
 #define EM7180_REG_QX			0x00	/* float32 x, y, z, w */
 #define EM7180_REG_FEATURE0		0x2A	/* feature data and TIME, to 0x31 */
 #define EM7180_REG_QRATE_DIVISOR	0x32
@@ -170,10 +172,13 @@ struct em7180_data {
 	u8 burst[EM7180_BURST_LEN];
 	u8 last_burst[EM7180_BURST_LEN];
 	bool last_valid;
-	struct {
-		/* quaternion Q14, then le16 words */
-		s16 chans[4 + 9 + EM7180_FEATURE_MAX];
-		aligned_s64 ts;
+	union {
+		struct {
+			IIO_DECLARE_QUATERNION(s16, quat);	/* Q14 */
+			__le16 words[9 + EM7180_FEATURE_MAX];
+			aligned_s64 ts;
+		} q;	/* the quaternion, when enabled, comes first */
+		IIO_DECLARE_BUFFER_WITH_TS(__le16, words, 9 + EM7180_FEATURE_MAX);
 	} scan;
 };
 

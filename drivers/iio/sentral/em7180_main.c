@@ -933,19 +933,22 @@ static void em7180_scan_push(struct iio_dev *indio_dev,
 			     const unsigned long *mask, s64 ts)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
-	unsigned int bit, start = 0, pos = 0;
+	unsigned int bit, start = 0;
 	const u8 *src;
+	__le16 *word;
 	int i;
 
 	em7180_scan_span(indio_dev, mask, &start);
+	word = test_bit(EM7180_SCAN_QUAT, mask) ? data->scan.q.words :
+						  data->scan.words;
 	for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP + data->n_features) {
 		src = &data->burst[indio_dev->channels[bit].address - start];
 		if (bit != EM7180_SCAN_QUAT) {
-			memcpy(&data->scan.chans[pos++], src, 2);
+			memcpy(word++, src, sizeof(*word));
 			continue;
 		}
 		for (i = 0; i < 4; i++)
-			data->scan.chans[pos++] = em7180_quat_component(&src[4 * i]);
+			data->scan.q.quat[i] = em7180_quat_component(&src[4 * i]);
 	}
 
 	iio_push_to_buffers_with_ts(indio_dev, &data->scan, sizeof(data->scan),
