@@ -337,9 +337,8 @@ static int em7180_param_end(struct em7180_data *data)
 	int ret, ret2;
 
 	ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
-	/* A scan announced before the algorithm resumes is not pushed */
-	WRITE_ONCE(data->xfer_seq, data->xfer_seq + 1);
 	ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+	em7180_resumed(data);
 	/* Bit 7 would keep fusion paused: try again later, then reset */
 	if (ret2) {
 		data->xfer_stuck = true;
