@@ -44,6 +44,12 @@ level_is() {
 }
 
 # --- A USFS board as it comes: the level, nothing else ------------------
+# The knob matrix's appnote_layout=1 booted the note's layout: this suite
+# plays both layouts itself, from a USFS board's
+if [ "$(cat "$SIM_DBG/appnote_layout")" != 0 ]; then
+	knob appnote_layout 0
+	rebind
+fi
 is "the simulator plays a USFS board" "$(cat "$SIM_DBG/appnote_layout")" 0
 ok "in_magn_calibration_auto_status exists" test -e "$DEV/in_magn_calibration_auto_status"
 is "none of the application note's attributes" "$(note_attrs)" 0
