@@ -430,32 +430,28 @@ int em7180_feature_read_avail(const int **vals, int *type, int *length)
  * em7180_feature_pace() - let a captured feature sensor pace the scans
  * @data: driver state, with @data->lock held
  * @mask: the scan mask
- * @best: the fastest rate in Hz of the other captured sensors
+ * @best: the fastest rate in Hz of the other captured sensors; updated
+ * @event: the EventStatus bit of that sensor; updated
  *
  * A captured feature sensor faster than @best paces the scans, with
- * EventStatus bit 6: it is then @data->pace_feature.
- *
- * Return: true when one does.
+ * EventStatus bit 6; it is then @data->pace_feature.
  */
-bool em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
-			 unsigned int best)
+void em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
+			 unsigned int *best, unsigned int *event)
 {
 	const struct em7180_feature *f;
 	unsigned int hz;
 
 	lockdep_assert_held(&data->lock);
 
-	data->pace_feature = NULL;
 	for (f = data->features; f < data->features + data->n_features; f++) {
 		if (!test_bit(f->scan_index, mask) ||
-		    em7180_feature_rate(data, f, &hz) || hz <= best)
+		    em7180_feature_rate(data, f, &hz) || hz <= *best)
 			continue;
-		best = hz;
-		data->pace_event = EM7180_EVENT_FEATURE;
+		*best = hz;
+		*event = EM7180_EVENT_FEATURE;
 		data->pace_feature = f;
 	}
-
-	return data->pace_feature;
 }
 
 /**
