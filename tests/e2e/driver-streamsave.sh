@@ -29,7 +29,9 @@ samples() {
 
 # capture TRIGGER OUT: stream quaternion, accel, gyro and timestamps through
 # TRIGGER while SAVES saves run 0.5 s apart; the simulator's transfer
-# times go to OUT.xfers, one "start end" line (µs) per save.
+# times go to OUT.xfers, one "start end late" line per save (µs; late: its
+# data timer's late callbacks from before the save to 0.5 s after it,
+# whole periods in which the machine did not run it).
 capture() {
 	local trig=$1 out=$2 i pid
 	iio_readdev -t "$trig" -b 8 -s 0 em7180 rot_quaternion accel_x accel_y \
@@ -40,14 +42,17 @@ capture() {
 	: >"$out.xfers"
 	failed=0
 	for i in $(seq $SAVES); do
+		late=$(dbg_get samples timer_late)
 		if dd if="$DEV/calibration_data" of="$out.ws$i" bs=4096 \
 			status=none 2>"$out.err$i"; then
+			sleep 0.5
 			echo "$(dbg_get state transfer_started_us)" \
-				"$(dbg_get state transfer_ended_us)" >>"$out.xfers"
+				"$(dbg_get state transfer_ended_us)" \
+				$(($(dbg_get samples timer_late) - late)) >>"$out.xfers"
 		else
 			failed=$((failed + 1))
+			sleep 0.5
 		fi
-		sleep 0.5
 	done
 	enabled=$(cat "$DEV/buffer/enable")
 	kill "$pid"
@@ -55,7 +60,11 @@ capture() {
 }
 
 # check_stream FILE XFERS PERIOD_US SLACK_US: the scans against the pauses;
-# prints "ok: ..." or the first problem.
+# prints "ok: ..." or the first problem. Where the simulator's data timer
+# itself ran whole periods late around a pause (UML stalled under load, as
+# make bench counts harness drops), each such period widens that pause's
+# slack by one: said, with that evidence. No scan inside a pause and the
+# stream going on after it hold for every pause.
 check_stream() {
 	python3 - "$@" <<'PYEOF'
 import struct, sys
@@ -70,8 +79,9 @@ for a, b in zip(ts, ts[1:]):
     if b <= a:
         sys.exit("timestamp %d us not after %d us: pushed twice or out of order" % (b, a))
 worst = 0
+stalled = []
 for line in open(xfers):
-    s, e = (int(x) for x in line.split())
+    s, e, late = (int(x) for x in line.split())
     inside = [t for t in ts if s <= t <= e]
     if inside:
         sys.exit("a scan at %d us inside the pause %d..%d us" % (inside[0], s, e))
@@ -81,11 +91,17 @@ for line in open(xfers):
         sys.exit("the pause %d..%d us is not inside the stream" % (s, e))
     gap = after[0] - before[-1]
     if gap > (e - s) + 2 * period + slack:
-        sys.exit("gap of %d us around a %d us pause: the stream did not resume at once"
-                 % (gap, e - s))
+        if gap > (e - s) + 2 * period + slack + late * period:
+            sys.exit("gap of %d us around a %d us pause: the stream did not resume at once"
+                     " (the data timer %d periods late meanwhile)" % (gap, e - s, late))
+        stalled.append("%d us around a %d us pause (data timer %d periods late)"
+                       % (gap, e - s, late))
+        continue
     worst = max(worst, gap - (e - s))
 print("ok: %d scans, %d pauses, at most %d us of gap beyond a pause"
       % (len(ts), sum(1 for _ in open(xfers)), worst))
+for g in stalled:
+    print("# the machine stalled: a gap of " + g)
 PYEOF
 }
 
@@ -108,6 +124,7 @@ ok "each read is the whole blob" \
 out=$(check_stream "$TMP/own.bin" "$TMP/own.bin.xfers" $((1000000 / RATE)) \
 	$((1000000 / RATE)) 2>&1)
 like "one honest gap per save, the stream resumed at once" "$out" '^ok: '
+grep '^# ' <<<"$out"
 drops=$(driver_drops)
 is "no sample the driver saw and did not read" "$drops" "$d0"
 [ "$drops" = "$d0" ] ||
@@ -127,6 +144,7 @@ if mkdir -p /sys/kernel/config/iio/triggers/hrtimer/t0 2>/dev/null; then
 	out=$(check_stream "$TMP/hr.bin" "$TMP/hr.bin.xfers" \
 		$((1000000 / RATE)) $((2 * 1000000 / RATE)) 2>&1)
 	like "no scan stamped inside a pause, the stream resumed" "$out" '^ok: '
+	grep '^# ' <<<"$out"
 	echo "em7180-dev$N" >"$DEV/trigger/current_trigger"
 else
 	ok "hrtimer trigger available" false
