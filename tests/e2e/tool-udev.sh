@@ -134,8 +134,9 @@ before=$(dmesg | grep -c 'sentral-warmstart\[')
 ok "replug as if systemd were running" replug "$client"
 udevadm settle --timeout=10
 unit=sentral-warmstart@$(systemd-escape "$key").service
-like "SYSTEMD_WANTS names the saving unit after the key" "$(props)" \
-	"SYSTEMD_WANTS=$(sed 's/\\/\\\\/g' <<<"$unit")"
+plug=sentral-warmstart-plug@$(systemd-escape "$key").service
+like "SYSTEMD_WANTS names the unit that starts the chip's units after the key" "$(props)" \
+	"SYSTEMD_WANTS=$(sed 's/\\/\\\\/g' <<<"$plug")"
 like "tagged for systemd" "$(props)" "CURRENT_TAGS=.*:systemd:"
 alias=$(props | sed -n 's/^SYSTEMD_ALIAS=//p')
 is "the device unit's alias is named by the key" "$alias" "/sys/subsystem/sentral-warmstart/$key"
@@ -143,7 +144,7 @@ is "the tool was not run directly" "$(dmesg | grep -c 'sentral-warmstart\[')" "$
 udevadm trigger --action=change "$(readlink -f "$(em7180_dir)")"
 udevadm settle --timeout=10
 like "after a change event: still the same unit" "$(props)" \
-	"SYSTEMD_WANTS=$(sed 's/\\/\\\\/g' <<<"$unit")"
+	"SYSTEMD_WANTS=$(sed 's/\\/\\\\/g' <<<"$plug")"
 like "still tagged for systemd (else systemd would stop the units)" "$(props)" \
 	"CURRENT_TAGS=.*:systemd:"
 is "the tool was not run directly" "$(dmesg | grep -c 'sentral-warmstart\[')" "$before"
@@ -159,15 +160,27 @@ done
 inst=${unit#sentral-warmstart@}
 inst=${inst%.service}
 out=$(cd $units && systemd-analyze verify --man=no "$units/$unit" \
-	"$units/sentral-warmstart-restore@$inst.service" 2>&1)
+	"$units/sentral-warmstart-restore@$inst.service" "$units/$plug" 2>&1)
 is "systemd-analyze verify: clean" "$out" ""
-for u in sentral-warmstart@.service sentral-warmstart-restore@.service; do
+for u in sentral-warmstart@.service sentral-warmstart-restore@.service \
+	sentral-warmstart-plug@.service; do
 	binds=$(sed -n 's/^BindsTo=//p' "$units/$u")
 	is "$u binds to the device's alias" "${binds//%i/$inst}" \
 		"$(systemd-escape --path --suffix=device "$alias")"
+done
+for u in sentral-warmstart@.service sentral-warmstart-restore@.service; do
 	like "$u passes the key to the tool (%I unescapes the instance)" \
 		"$(grep '^Exec' "$units/$u")" "--device %I "
 done
+# systemd starts what a device wants with a job that gives way to a stop
+# job (systemd issue 11526): the device wants a unit that has none, which
+# restarts the two, the restore first, and stays active (no second start
+# for another "add" of the device).
+is "the plug unit restarts the restore and the saving unit of its instance" \
+	"$(grep -E '^(Type|RemainAfterExit|ExecStart)=' "$units/sentral-warmstart-plug@.service")" \
+	"Type=oneshot"$'\n'"RemainAfterExit=yes"$'\n'"ExecStart=/bin/systemctl --no-block restart sentral-warmstart-restore@%i.service sentral-warmstart@%i.service"
+is "... and stops nothing itself" \
+	"$(grep -E '^ExecStop' "$units/sentral-warmstart-plug@.service")" ""
 is "the instance unescaped is the key" "$(systemd-escape --unescape "$inst")" "$key"
 like "the saving unit wants the restoring one" \
 	"$(grep '^Wants=' "$units/sentral-warmstart@.service")" \
