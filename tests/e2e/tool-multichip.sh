@@ -108,8 +108,8 @@ for k in $keys; do
 		sentral-warmstart --device "$k" status
 	is "$k: the rule's key is unchanged" "$(udev_prop "$d" SENTRAL_WARMSTART_KEY)" "$k"
 	unit=$(udev_prop "$d" SYSTEMD_WANTS)
-	is "$k: SYSTEMD_WANTS names its unit after the key" "$unit" \
-		"sentral-warmstart@$(systemd-escape "$k").service"
+	is "$k: SYSTEMD_WANTS names its plug unit after the key" "$unit" \
+		"sentral-warmstart-plug@$(systemd-escape "$k").service"
 	is "$k: the device unit's alias names the key" \
 		"$(udev_prop "$d" SYSTEMD_ALIAS)" "/sys/subsystem/sentral-warmstart/$k"
 	like "$k: still tagged for systemd" "$(udev_prop "$d" CURRENT_TAGS)" ":systemd:"
