@@ -275,22 +275,26 @@ t=$(dbg_get stats transactions)
 ok "a transaction a poll: $t in 10 s at --poll 2 (5, one more at the edges)" \
 	test "$t" -ge 4 -a "$t" -le 6
 
-# The surroundings keep changing every 2 s of turning (each time the best
+# The surroundings keep changing every 3 s of turning (each time the best
 # score reachable is another), with a buffer streaming: better calibrations
 # come, at most one write per 6 s, and only 0.2 points better than the
-# saved one.
+# saved one. The chip converges in 1 s (cal_duration_ms), so each drift is
+# stable for 2 s: one poll of every 2 s sees each (a drift period of 2 s,
+# the poll's, let the polls fall in the converging second every time). The
+# simulator's drifts are the same after every load: the 6th and 8th make a
+# score 0.2 points better than the first save's, within 30 s.
 echo 1 >"$DEV/buffer0/in_accel_x_en"
 ok "a buffer streams" sh -c "echo 1 >'$DEV/buffer0/enable'"
-knob drift_ms 2000
+knob drift_ms 3000
 knob pattern sphere
-sleep 30
+sleep 36
 knob motion 0
 knob drift_ms 0
 n=$(saves)
-echo "# $n saves in 30 s of drift:"
+echo "# $n saves in 36 s of drift:"
 grep -E "saved|not saving|waits|to save|error" "$log" | sed 's/^/#   /'
 ok "some drifted calibrations saved while streaming" test "$n" -ge 2
-ok "at most one write per 6 s (plus the first)" test "$n" -le 6
+ok "at most one write per 6 s (plus the first)" test "$n" -le 7
 ok "every save better than the one before by the margin" awk '
 	/saved iio.*calibration/ && match($0, /score [0-9.]+%/) {
 		s = substr($0, RSTART + 6, RLENGTH - 7) + 0
