@@ -370,8 +370,8 @@ sh -c "echo $CLIENT > $DRV/unbind" &
 pid=$!
 ok "the recovery's restore transfer begins" wait_for 10 in_transfer
 ok "while the unbind waits" kill -0 $pid
-# Its next transaction and the four that end the transfer
-knob nack_run 5
+# Its next transaction and the two that end the transfer
+knob nack_run 3
 knob nack_at 1
 ends "the unbind returns" $pid 15
 is "the NACKs fired" "$(cat "$SIM_DBG/nack_at")" 0

@@ -160,9 +160,9 @@ knob ack_latency_us 100000
 dmesg -c >/dev/null
 knob chip_reset 1
 ok "the recovery's restore transfer begins" wait_for 5 in_transfer
-# A transaction of the transfer about 2 s later and the four that end it
+# A transaction of the transfer about 2 s later and the two that end it
 # NACKed: by then the suspend waits for the recovery.
-knob nack_run 5
+knob nack_run 3
 knob nack_at 50
 accel_made
 s0=$ACCEL

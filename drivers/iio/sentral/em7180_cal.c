@@ -164,7 +164,7 @@ static int em7180_cal_read(struct em7180_data *data, u8 *regs, bool block,
 {
 	int ret;
 
-	if (!block || split || data->param_single) {
+	if (!block || split || data->ptr_stops) {
 		ret = regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
 				       regs, 2);
 		if (ret || !block)

@@ -112,6 +112,17 @@ static inline int iio_push_to_buffers_with_ts(struct iio_dev *indio_dev,
 }
 #endif
 
+/* The typed scan buffers of 6.16 (iio-for-6.16a) and the quaternion's of 6.17 */
+#if KERNEL_VERSION(6, 16, 0) > LINUX_VERSION_CODE
+#define IIO_DECLARE_BUFFER_WITH_TS(type, name, count)			\
+	type name[ALIGN((count), sizeof(s64) / sizeof(type)) +		\
+		  sizeof(s64) / sizeof(type)] __aligned(sizeof(s64))
+#endif
+#if KERNEL_VERSION(6, 17, 0) > LINUX_VERSION_CODE
+#define IIO_DECLARE_QUATERNION(type, name)				\
+	type name[4] __aligned(sizeof(type) * 4)
+#endif
+
 /* i2c_mux_add_adapter() lost its class argument in 6.10 (fec1982d7072) */
 #if KERNEL_VERSION(6, 10, 0) <= LINUX_VERSION_CODE
 #define em7180_i2c_mux_add_adapter(muxc, nr, chan)	i2c_mux_add_adapter(muxc, nr, chan)

@@ -18,6 +18,8 @@
 #include <linux/wait.h>
 #include <linux/workqueue.h>
 
+#include "em7180_compat.h"
+
 #define EM7180_REG_QX			0x00	/* float32 x, y, z, w */
 #define EM7180_REG_FEATURE0		0x2A	/* feature data and TIME, to 0x31 */
 #define EM7180_REG_QRATE_DIVISOR	0x32
@@ -117,12 +119,11 @@ struct em7180_data {
 	struct mutex lock;	/* chip access and every field below */
 	/* A transfer on the sensor bus behind the hub (em7180_passthru.c) */
 	bool passthru;
-	wait_queue_head_t passthru_wq;
 	int irq;
 	/* Parameter transfer: learned acknowledge wait, register order */
 	unsigned int ack_wait_us;
 	unsigned int ack_min_us;
-	bool param_single;
+	bool ptr_stops;		/* em7180_param_pointer() */
 	struct em7180_cal cal;
 	u8 product_id;
 	u8 revision_id;
@@ -138,6 +139,7 @@ struct em7180_data {
 	bool accel_offset_valid;
 	u32 accel_offset[3];
 	unsigned int pace_event;	/* the EventStatus bit pacing scans */
+	unsigned int pace_time;		/* the TIME register of its sensor */
 	const struct em7180_feature *pace_feature;	/* for bit 6 */
 	/* The feature sensors FeatureFlags announced at probe, slot order */
 	struct em7180_feature features[EM7180_FEATURE_MAX];
@@ -151,29 +153,26 @@ struct em7180_data {
 	unsigned long recovered_at;
 	int recover_ret;
 	struct delayed_work watch_work;
-	unsigned int watch_scans;
+	s64 watch_ts;
 	unsigned long status_at;	/* last SentralStatus read */
 	struct iio_mount_matrix orientation;
 	/* RAM firmware the host uploads (no EEPROM, or firmware-name) */
 	const struct firmware *fw;
 	const char *fw_name;
-	/* Scans and the parameter transfers they must not straddle */
-	s64 timestamp;
-	s64 scan_ts;
-	bool scan_fresh;
-	unsigned int xfer_seq;
-	unsigned int irq_seq;
-	unsigned int poll_seq;
-	unsigned int scans;
-	unsigned int scan_seq;
-	wait_queue_head_t scan_wq;
+	/* Scans, and the pauses they must not straddle */
+	wait_queue_head_t wq;		/* scans and the end of passthrough */
+	s64 timestamp;			/* of the last interrupt */
+	s64 scan_ts;			/* of the last scan the trigger paced */
+	s64 resumed;			/* when the last pause ended */
+	int last_time;			/* that scan's TIME, -1 for none */
 	u8 burst[EM7180_BURST_LEN];
-	u8 last_burst[EM7180_BURST_LEN];
-	bool last_valid;
-	struct {
-		/* quaternion Q14, then le16 words */
-		s16 chans[4 + 9 + EM7180_FEATURE_MAX];
-		aligned_s64 ts;
+	union {
+		struct {
+			IIO_DECLARE_QUATERNION(s16, quat);	/* Q14 */
+			__le16 words[9 + EM7180_FEATURE_MAX];
+			aligned_s64 ts;
+		} q;	/* the quaternion, when enabled, comes first */
+		IIO_DECLARE_BUFFER_WITH_TS(__le16, words, 9 + EM7180_FEATURE_MAX);
 	} scan;
 };
 
@@ -181,7 +180,9 @@ void em7180_lock(struct em7180_data *data);
 /* The driver's lock, with the hub out of passthrough */
 DEFINE_GUARD(em7180, struct em7180_data *, em7180_lock(_T),
 	     mutex_unlock(&_T->lock))
+void em7180_resumed(struct em7180_data *data);
 
+int em7180_param_pointer(struct em7180_data *data);
 int em7180_params_read(struct em7180_data *data, unsigned int first,
 		       unsigned int count, u32 *vals);
 int em7180_params_write(struct em7180_data *data, unsigned int first,
@@ -252,8 +253,8 @@ int em7180_feature_read_freq(struct em7180_data *data,
 int em7180_feature_write_freq(struct em7180_data *data,
 			      const struct em7180_feature *f, int hz);
 int em7180_feature_read_avail(const int **vals, int *type, int *length);
-void em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
-			 unsigned int *best, unsigned int *event);
+bool em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
+			 unsigned int best);
 int em7180_feature_report(struct em7180_data *data);
 
 /* em7180_passthru.c: the sensor bus behind the hub */

@@ -430,28 +430,32 @@ int em7180_feature_read_avail(const int **vals, int *type, int *length)
  * em7180_feature_pace() - let a captured feature sensor pace the scans
  * @data: driver state, with @data->lock held
  * @mask: the scan mask
- * @best: the fastest rate in Hz of the other captured sensors; updated
- * @event: the EventStatus bit of that sensor; updated
+ * @best: the fastest rate in Hz of the other captured sensors
  *
  * A captured feature sensor faster than @best paces the scans, with
- * EventStatus bit 6; it is then @data->pace_feature.
+ * EventStatus bit 6: it is then @data->pace_feature.
+ *
+ * Return: true when one does.
  */
-void em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
-			 unsigned int *best, unsigned int *event)
+bool em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
+			 unsigned int best)
 {
 	const struct em7180_feature *f;
 	unsigned int hz;
 
 	lockdep_assert_held(&data->lock);
 
+	data->pace_feature = NULL;
 	for (f = data->features; f < data->features + data->n_features; f++) {
 		if (!test_bit(f->scan_index, mask) ||
-		    em7180_feature_rate(data, f, &hz) || hz <= *best)
+		    em7180_feature_rate(data, f, &hz) || hz <= best)
 			continue;
-		*best = hz;
-		*event = EM7180_EVENT_FEATURE;
+		best = hz;
+		data->pace_event = EM7180_EVENT_FEATURE;
 		data->pace_feature = f;
 	}
+
+	return data->pace_feature;
 }
 
 /**

@@ -157,23 +157,34 @@ static void em7180_watch_work(struct work_struct *work)
 	struct em7180_data *data = container_of(to_delayed_work(work),
 						struct em7180_data,
 						watch_work);
-	unsigned int scans = READ_ONCE(data->scans), status;
+	s64 ts = READ_ONCE(data->scan_ts);
+	unsigned int status;
 
-	if (!READ_ONCE(data->pace_event) || scans == data->watch_scans) {
+	if (!READ_ONCE(data->pace_event) || ts == data->watch_ts) {
 		guard(em7180)(data);
 		if (!regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
 				 &status))
 			em7180_status_seen(data, status);
 	}
-	data->watch_scans = scans;
+	data->watch_ts = ts;
 	em7180_watch_schedule(data);
+}
+
+/* current_timestamp_clock may have changed since the last pause */
+static int em7180_buffer_preenable(struct iio_dev *indio_dev)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+
+	guard(em7180)(data);
+	data->resumed = 0;
+	return 0;
 }
 
 static int em7180_buffer_postenable(struct iio_dev *indio_dev)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
 
-	data->watch_scans = READ_ONCE(data->scans);
+	data->watch_ts = READ_ONCE(data->scan_ts);
 	em7180_watch_schedule(data);
 	return 0;
 }
@@ -187,6 +198,7 @@ static int em7180_buffer_predisable(struct iio_dev *indio_dev)
 }
 
 const struct iio_buffer_setup_ops em7180_buffer_ops = {
+	.preenable = em7180_buffer_preenable,
 	.postenable = em7180_buffer_postenable,
 	.predisable = em7180_buffer_predisable,
 };

@@ -49,6 +49,7 @@
 #include "em7180_compat.h"
 #include "em7180_core.h"
 
+#define EM7180_REG_QTIME		0x10
 #define EM7180_REG_MX			0x12
 #define EM7180_REG_AX			0x1A
 #define EM7180_REG_GX			0x22
@@ -314,11 +315,24 @@ void em7180_lock(struct em7180_data *data)
 	mutex_lock(&data->lock);
 	while (data->passthru) {
 		mutex_unlock(&data->lock);
-		wait_event(data->passthru_wq, !READ_ONCE(data->passthru));
+		wait_event(data->wq, !READ_ONCE(data->passthru));
 		mutex_lock(&data->lock);
 	}
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_lock);
+
+/**
+ * em7180_resumed() - the chip runs again after a pause
+ * @data: driver state, with @data->lock held
+ *
+ * A parameter transfer or passthrough paused the fusion: a scan stamped
+ * before now may find a newer sample (em7180_scan()).
+ */
+void em7180_resumed(struct em7180_data *data)
+{
+	lockdep_assert_held(&data->lock);
+	data->resumed = iio_get_time_ns(dev_get_drvdata(data->dev));
+}
 
 /* The actual rate; the requested one until the sensor has started */
 static int em7180_read_freq(struct em7180_data *data,
@@ -645,33 +659,6 @@ int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_check);
 
-/*
- * While the chip's own trigger paces a capture, a transfer starts right
- * after a scan, so that no sample is lost to the pause; one transfer per
- * scan, so that readers in a loop cannot stop the stream.
- *
- * Return: 1 when a scan came, 0 when none is coming or @tries ran out, or
- * the error of an interrupted wait.
- */
-static int em7180_wait_scan(struct em7180_data *data, unsigned int *tries)
-{
-	unsigned int scans = READ_ONCE(data->scans);
-	long ret;
-
-	if (!READ_ONCE(data->pace_event) || !*tries)
-		return 0;
-	(*tries)--;
-
-	ret = wait_event_killable_timeout(data->scan_wq,
-					  READ_ONCE(data->scans) != scans ||
-					  !READ_ONCE(data->pace_event),
-					  msecs_to_jiffies(EM7180_SCAN_WAIT_MS));
-	if (ret < 0)
-		return ret;
-
-	return ret > 0;
-}
-
 /**
  * em7180_warmstart_read() - read the warm start from the chip
  * @data: driver state, with @data->lock held
@@ -710,7 +697,12 @@ VISIBLE_IF_KUNIT int em7180_warmstart_read(struct em7180_data *data, u8 *buf)
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_read);
 
-/* Works while a buffer runs, so that streaming never blocks a save */
+/*
+ * Works while a buffer runs, so that streaming never blocks a save. While
+ * the chip's own trigger paces the capture the transfer starts right after
+ * a scan, so that its pause falls between two samples and loses none, and
+ * again after the next scan when another pause came since.
+ */
 static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 				     em7180_bin_attribute *attr, char *buf,
 				     loff_t off, size_t count)
@@ -718,7 +710,8 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 	struct iio_dev *indio_dev = dev_to_iio_dev(kobj_to_dev(kobj));
 	struct em7180_data *data = iio_priv(indio_dev);
 	unsigned int tries = EM7180_SCAN_WAIT_TRIES;
-	int ret;
+	long ret;
+	s64 ts;
 
 	if (off >= EM7180_WS_SIZE)
 		return 0;
@@ -728,13 +721,17 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 		return ret;
 
 	for (;;) {
-		ret = em7180_wait_scan(data, &tries);
+		ts = READ_ONCE(data->scan_ts);
+		ret = wait_event_killable_timeout(data->wq,
+						  READ_ONCE(data->scan_ts) != ts ||
+						  !READ_ONCE(data->pace_event),
+						  msecs_to_jiffies(EM7180_SCAN_WAIT_MS));
 		if (ret < 0)
 			return ret;
 
 		guard(em7180)(data);
-		/* Another transfer came after that scan: wait for the next */
-		if (ret && data->scan_seq != data->xfer_seq)
+		if (data->pace_event && data->resumed > data->scan_ts &&
+		    --tries)
 			continue;
 
 		ret = em7180_warmstart_read(data, buf);
@@ -899,106 +896,75 @@ static unsigned int em7180_scan_span(struct iio_dev *indio_dev,
 }
 
 /*
- * Read a scan of @mask into data->burst. A sample that comes between the
- * EventStatus read and the burst is read by the previous interrupt's burst;
- * its own interrupt then finds the same registers, TIME included: with the
- * chip's own trigger (@own) such a repeat is not fresh. Any other trigger
- * samples whatever the chip holds.
+ * Read and push a scan stamped @ts. The chip paused since @ts (a parameter
+ * transfer, passthrough) may hold a newer sample than that: nothing is
+ * pushed then. With the chip's own trigger (@own) a sample that came
+ * between the EventStatus read and the burst was read by the previous
+ * interrupt's burst, and its own interrupt finds it again, TIME included:
+ * it is not pushed twice. Another trigger samples whatever the chip holds.
  */
-static int em7180_scan_read(struct iio_dev *indio_dev,
-			    const unsigned long *mask, bool own, bool *fresh)
+static void em7180_scan(struct iio_dev *indio_dev, s64 ts, bool own)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
-	unsigned int start = 0, len = em7180_scan_span(indio_dev, mask, &start);
-	int ret;
+	const unsigned long *mask = indio_dev->active_scan_mask;
+	unsigned int bit, start = 0, len, at = data->pace_time;
+	const u8 *src;
+	__le16 *word;
+	int i;
 
 	lockdep_assert_held(&data->lock);
 
-	*fresh = true;
-	if (!len)
-		return 0;
+	if (ts < data->resumed)
+		return;
+	len = em7180_scan_span(indio_dev, mask, &start);
+	if (len && regmap_bulk_read(data->regmap, start, data->burst, len))
+		return;
+	if (own && at >= start && at + 2 <= start + len) {
+		i = get_unaligned_le16(&data->burst[at - start]);
+		if (i == data->last_time)
+			return;
+		data->last_time = i;
+	}
 
-	ret = regmap_bulk_read(data->regmap, start, data->burst, len);
-	if (ret || !own)
-		return ret;
-
-	*fresh = !data->last_valid || memcmp(data->last_burst, data->burst, len);
-	memcpy(data->last_burst, data->burst, len);
-	data->last_valid = true;
-	return 0;
-}
-
-/* The enabled channels of data->burst in scan order, the quaternion in Q14 */
-static void em7180_scan_push(struct iio_dev *indio_dev,
-			     const unsigned long *mask, s64 ts)
-{
-	struct em7180_data *data = iio_priv(indio_dev);
-	unsigned int bit, start = 0, pos = 0;
-	const u8 *src;
-	int i;
-
-	em7180_scan_span(indio_dev, mask, &start);
+	word = test_bit(EM7180_SCAN_QUAT, mask) ? data->scan.q.words :
+						  data->scan.words;
 	for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP + data->n_features) {
 		src = &data->burst[indio_dev->channels[bit].address - start];
 		if (bit != EM7180_SCAN_QUAT) {
-			memcpy(&data->scan.chans[pos++], src, 2);
+			memcpy(word++, src, sizeof(*word));
 			continue;
 		}
 		for (i = 0; i < 4; i++)
-			data->scan.chans[pos++] = em7180_quat_component(&src[4 * i]);
+			data->scan.q.quat[i] = em7180_quat_component(&src[4 * i]);
 	}
-
 	iio_push_to_buffers_with_ts(indio_dev, &data->scan, sizeof(data->scan),
 				    ts);
+	if (own)
+		WRITE_ONCE(data->scan_ts, ts);
 }
 
 /*
- * With the chip's own trigger the scan was read by em7180_irq_thread(),
- * which runs this nested. Registers read after a parameter transfer that
- * ended since the interrupt or poll may hold a sample newer than the
- * timestamp: nothing is pushed then.
+ * With the chip's own trigger this runs nested in em7180_irq_thread(),
+ * which holds the lock since it read EventStatus: no transfer comes
+ * between that and the burst.
  */
 static irqreturn_t em7180_trigger_handler(int irq, void *p)
 {
 	struct iio_poll_func *pf = p;
 	struct iio_dev *indio_dev = pf->indio_dev;
 	struct em7180_data *data = iio_priv(indio_dev);
-	const unsigned long *mask = indio_dev->active_scan_mask;
+
 	/* Not iio_trigger_using_own(): the core sets that after enabling */
-	bool own = data->trig && indio_dev->trig == data->trig;
-	unsigned int seq = READ_ONCE(data->poll_seq);
-	bool fresh = false;
-	int ret = -EAGAIN;
-
-	if (own) {
-		if (data->scan_fresh)
-			em7180_scan_push(indio_dev, mask, data->scan_ts);
-		WRITE_ONCE(data->scans, data->scans + 1);
-		wake_up_all(&data->scan_wq);
-		goto done;
+	if (data->trig && indio_dev->trig == data->trig) {
+		em7180_scan(indio_dev, data->timestamp, true);
+		wake_up_all(&data->wq);
+	} else {
+		scoped_guard(em7180, data)
+			em7180_scan(indio_dev, pf->timestamp, false);
 	}
 
-	scoped_guard(em7180, data) {
-		if (seq == data->xfer_seq)
-			ret = em7180_scan_read(indio_dev, mask, false, &fresh);
-	}
-	if (!ret)
-		em7180_scan_push(indio_dev, mask, pf->timestamp);
-
-done:
 	iio_trigger_notify_done(indio_dev->trig);
 	return IRQ_HANDLED;
-}
-
-/* Another device's trigger: its poll time, and which transfers it follows */
-static irqreturn_t em7180_pollfunc_store(int irq, void *p)
-{
-	struct iio_poll_func *pf = p;
-	struct em7180_data *data = iio_priv(pf->indio_dev);
-
-	pf->timestamp = iio_get_time_ns(pf->indio_dev);
-	WRITE_ONCE(data->poll_seq, READ_ONCE(data->xfer_seq));
-	return IRQ_WAKE_THREAD;
 }
 
 static irqreturn_t em7180_irq_handler(int irq, void *p)
@@ -1006,8 +972,7 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
 	struct iio_dev *indio_dev = p;
 	struct em7180_data *data = iio_priv(indio_dev);
 
-	WRITE_ONCE(data->timestamp, iio_get_time_ns(indio_dev));
-	WRITE_ONCE(data->irq_seq, READ_ONCE(data->xfer_seq));
+	data->timestamp = iio_get_time_ns(indio_dev);
 	return IRQ_WAKE_THREAD;
 }
 
@@ -1028,105 +993,95 @@ static int em7180_read_events(struct em7180_data *data, unsigned int *status)
 }
 
 /*
- * The time was taken before the EventStatus read: after it the next sample
- * can raise a new edge. EventStatus latches every event; INT rises for the
- * enabled ones. A CPUReset means the chip lost its configuration.
+ * EventStatus latches every event; INT rises for the enabled ones. A
+ * CPUReset means the chip lost its configuration. In passthrough only the
+ * events are read: the hub's bus is the host's then.
  */
 static irqreturn_t em7180_irq_thread(int irq, void *p)
 {
 	struct iio_dev *indio_dev = p;
 	struct em7180_data *data = iio_priv(indio_dev);
-	s64 ts = READ_ONCE(data->timestamp);
-	unsigned int seq = READ_ONCE(data->irq_seq);
-	unsigned int status, pending = 0;
-	int ret, scan_ret = -EAGAIN;
-	bool scan = false, fresh = false;
+	unsigned int status;
+	int ret;
 
-	scoped_guard(mutex, &data->lock) {
-		ret = em7180_read_events(data, &status);
-		if (!ret)
-			pending = status & (EM7180_EVENT_ALWAYS | data->pace_event);
-		if (pending & EM7180_EVENT_ERROR)
-			em7180_report_error(data);
-		if (pending & EM7180_EVENT_CPU_RESET) {
-			em7180_recover_schedule(data);
-		} else if (pending & EM7180_EVENT_DATA && !data->passthru) {
-			/* The burst in the same lock section: no transfer in between */
-			scan = true;
-			data->scan_seq = data->xfer_seq;
-			if (seq == data->xfer_seq)
-				scan_ret = em7180_scan_read(indio_dev,
-							    indio_dev->active_scan_mask,
-							    true, &fresh);
-		}
-	}
+	guard(mutex)(&data->lock);
+	ret = em7180_read_events(data, &status);
 	if (ret) {
-		dev_err_ratelimited(data->dev,
-				    "cannot read the event status: %d\n", ret);
+		dev_err_ratelimited(data->dev, "cannot read EventStatus: %d\n",
+				    ret);
 		return IRQ_HANDLED;
 	}
-	/* Not ours: another device on a shared line, or a glitch */
-	if (!pending)
+	/* No enabled event pending: not the chip's interrupt */
+	status &= EM7180_EVENT_ALWAYS | data->pace_event;
+	if (!status)
 		return IRQ_NONE;
 
-	if (scan) {
-		data->scan_ts = ts ?: iio_get_time_ns(indio_dev);
-		data->scan_fresh = !scan_ret && fresh;
+	if (status & EM7180_EVENT_ERROR)
+		em7180_report_error(data);
+	if (status & EM7180_EVENT_CPU_RESET)
+		em7180_recover_schedule(data);
+	else if (status & EM7180_EVENT_DATA && !data->passthru)
 		em7180_trigger_poll_nested(data->trig);
-	}
 
 	return IRQ_HANDLED;
 }
 
 /*
- * The event that paces the scans, one scan per step of the chip: the
- * quaternion when captured (the fusion step), else the fastest captured
- * sensor, else the gyroscope.
+ * The event that paces the scans, one scan per step of the chip, and the
+ * TIME register of its sensor: the quaternion when captured (the fusion
+ * step), else the fastest captured sensor, else the gyroscope.
  */
-static unsigned int em7180_pace_event(struct em7180_data *data,
-				      const unsigned long *mask)
+static void em7180_pace(struct iio_dev *indio_dev, const unsigned long *mask)
 {
-	const struct em7180_sensor *s;
-	unsigned int rate, best = 0, event = EM7180_EVENT_GYRO;
+	struct em7180_data *data = iio_priv(indio_dev);
+	const struct em7180_sensor *s, *pace = em7180_sensors;
+	unsigned int rate, best = 0;
 
 	lockdep_assert_held(&data->lock);
 
+	data->pace_event = EM7180_EVENT_QUAT;
+	data->pace_time = EM7180_REG_QTIME;
 	if (test_bit(EM7180_SCAN_QUAT, mask))
-		return EM7180_EVENT_QUAT;
+		return;
 
 	for (s = em7180_sensors; s < em7180_sensors + ARRAY_SIZE(em7180_sensors); s++) {
 		if (find_next_bit(mask, s->scan_first + 3, s->scan_first) >=
 		    s->scan_first + 3 ||
-		    regmap_read(data->regmap, s->rate_reg, &rate))
+		    regmap_read(data->regmap, s->rate_reg, &rate) ||
+		    rate * s->hz_per_lsb <= best)
 			continue;
-		if (rate * s->hz_per_lsb > best) {
-			best = rate * s->hz_per_lsb;
-			event = s->event;
-		}
+		best = rate * s->hz_per_lsb;
+		pace = s;
 	}
-	em7180_feature_pace(data, mask, &best, &event);
-
-	return event;
+	data->pace_event = pace->event;
+	data->pace_time = indio_dev->channels[pace->scan_first].address + 6;
+	if (em7180_feature_pace(data, mask, best))
+		data->pace_time = data->pace_feature->end_reg - 2;
 }
 
 static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 {
 	struct iio_dev *indio_dev = iio_trigger_get_drvdata(trig);
 	struct em7180_data *data = iio_priv(indio_dev);
-	const unsigned long *mask = indio_dev->active_scan_mask;
 	unsigned int status;
 	int ret;
 
 	scoped_guard(em7180, data) {
-		WRITE_ONCE(data->pace_event,
-			   state && mask ? em7180_pace_event(data, mask) : 0);
+		data->pace_event = 0;
+		data->last_time = -1;
+		if (state)
+			em7180_pace(indio_dev, indio_dev->active_scan_mask);
 		/* No scan comes any more: transfers waiting for one go ahead */
-		if (!state)
-			wake_up_all(&data->scan_wq);
-		data->last_valid = false;
+		else
+			wake_up_all(&data->wq);
 		ret = em7180_feature_report(data) ?:
 		      regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
 				   EM7180_EVENT_ALWAYS | data->pace_event);
+		/*
+		 * Data interrupts left on, with no scan paced, would each be
+		 * unhandled, and the kernel disables a line after 100,000 of
+		 * them (note_interrupt()): asked once more.
+		 */
 		if (ret && !state)
 			ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
 					   EM7180_EVENT_ALWAYS);
@@ -1348,9 +1303,6 @@ static int em7180_standby(struct em7180_data *data)
 
 	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
 			   EM7180_ALGO_CTRL_STANDBY);
-	if (ret)
-		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
-				   EM7180_ALGO_CTRL_STANDBY);
 	if (!ret)
 		ret = regmap_read_poll_timeout(data->regmap,
 					       EM7180_REG_ALGO_STATUS, status,
@@ -1545,8 +1497,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	ret = devm_mutex_init(dev, &data->lock);
 	if (ret)
 		return ret;
-	init_waitqueue_head(&data->scan_wq);
-	init_waitqueue_head(&data->passthru_wq);
+	init_waitqueue_head(&data->wq);
 	dev_set_drvdata(dev, indio_dev);
 
 	ret = devm_regulator_bulk_get_enable(dev, ARRAY_SIZE(regulators),
@@ -1603,6 +1554,11 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
+	scoped_guard(em7180, data)
+		ret = em7180_param_pointer(data);
+	if (ret)
+		return dev_err_probe(dev, ret, "failed to probe the register pointer\n");
+
 	/* Streaming works without: the score is left out */
 	scoped_guard(em7180, data) {
 		ret = em7180_cal_detect(data);
@@ -1628,7 +1584,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	}
 
 	ret = devm_iio_triggered_buffer_setup(dev, indio_dev,
-					      em7180_pollfunc_store,
+					      iio_pollfunc_store_time,
 					      em7180_trigger_handler,
 					      &em7180_buffer_ops);
 	if (ret)

@@ -184,10 +184,12 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
 
 /*
  * Poll ParamAcknowledge (@len bytes: 5 take SavedParam along) until it
- * echoes @req. The first poll waits the latency learned so far, so that a
- * steady firmware costs one poll per parameter; an early poll is followed
- * by others at 1/8 of the time spent, and sets the wait; a poll in time
- * shrinks it by 1/8, not below the shortest latency seen.
+ * echoes @req. No public source gives the latency, and EM's driver allows
+ * 1 s: it is learned, so that a steady firmware costs one poll per
+ * parameter. The first poll waits the latency learned so far; an early one
+ * is followed by others at 1/8 of the time spent, and sets the wait; one in
+ * time shrinks it by 1/8, not below the shortest latency seen, so that a
+ * slow moment is not kept.
  */
 static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 			    size_t len)
@@ -219,24 +221,53 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 		data->ack_wait_us = min(took, EM7180_ACK_WAIT_MAX_US);
 		data->ack_min_us = min_not_zero(data->ack_min_us,
 						data->ack_wait_us);
-	} else if (!data->ack_min_us ||
-		   wait - wait / 8 >= data->ack_min_us) {
-		data->ack_wait_us = wait - wait / 8;
+	} else {
+		data->ack_wait_us = max(wait - wait / 8, data->ack_min_us);
 	}
 	return 0;
 }
 
-/*
- * One request and its acknowledge, in one burst each way until the chip
- * shows its register pointer stops at 0x3A or 0x63 (no reference host
- * crosses them): then one register per transfer (data->param_single). A
- * value whose bytes all equal the echo is what such a pointer returns.
+/**
+ * em7180_param_pointer() - does the register pointer cross 0x63 and 0x3A?
+ * @data: driver state, with @data->lock held, no transfer running
+ *
+ * No public host writes across 0x63->0x64 or reads across 0x3A->0x3B in
+ * one message (EM's em718x_core.c, the USFS host libraries), so whether
+ * the pointer increments there is unknown. Where it does, a parameter
+ * costs two transactions: its value and request in one write, its
+ * acknowledge and value in one read; where it stops, three, one register
+ * per message as those hosts send them. Two bytes written at 0x63 land on
+ * 0x63 and 0x64 (a stop request, harmless here) or both on 0x63.
+ *
+ * Return: 0 or the bus error.
  */
+int em7180_param_pointer(struct em7180_data *data)
+{
+	static const u8 probe[] = { 0x5a, 0 };
+	unsigned int val;
+	int ret;
+
+	lockdep_assert_held(&data->lock);
+
+	ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM + 3, probe,
+				sizeof(probe)) ?:
+	      regmap_read(data->regmap, EM7180_REG_LOAD_PARAM + 3, &val);
+	if (ret)
+		return ret;
+
+	data->ptr_stops = val != probe[0];
+	if (data->ptr_stops)
+		dev_info(data->dev,
+			 "register pointer stops at 0x63: one register per message\n");
+	return 0;
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_param_pointer);
+
+/* One request and its acknowledge; bit 7 set after the first (@start) */
 static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
 				u32 *out, bool start)
 {
-	u32 echo = req * 0x01010101U;
-	bool single = data->param_single;
+	bool stops = data->ptr_stops;
 	u8 buf[5];
 	int ret;
 
@@ -244,36 +275,25 @@ static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
 		put_unaligned_le32(in, buf);
 		buf[4] = req;
 		ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM, buf,
-					single ? 4 : 5);
-		if (!ret && single)
+					stops ? 4 : 5);
+		if (!ret && stops)
 			ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, req);
 	} else {
 		ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, req);
 	}
-	/* Bit 7 after the first request: never start on one left behind */
+	/* Never start on a request another user left behind */
 	if (!ret && start)
 		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
 				   EM7180_ALGO_CTRL_PARAM_XFER);
 	if (!ret)
-		ret = em7180_param_ack(data, req, buf, out && !single ? 5 : 1);
-	if (ret || !out)
-		return ret;
-
-	if (!single) {
+		ret = em7180_param_ack(data, req, buf, out && !stops ? 5 : 1);
+	if (!ret && out && stops)
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_SAVED_PARAM,
+				       &buf[1], 4);
+	if (!ret && out)
 		*out = get_unaligned_le32(&buf[1]);
-		if (*out != echo)
-			return 0;
-	}
-	ret = regmap_bulk_read(data->regmap, EM7180_REG_SAVED_PARAM, buf, 4);
-	if (ret)
-		return ret;
-	*out = get_unaligned_le32(buf);
-	if (!single && *out != echo) {
-		dev_info(data->dev,
-			 "register pointer stops at ParamAcknowledge: reading parameters one register at a time\n");
-		data->param_single = true;
-	}
-	return 0;
+
+	return ret;
 }
 
 /*
@@ -288,19 +308,19 @@ static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 {
 	u8 regs[EM7180_ACK_CAL_LEN];
 	u8 *cal = &regs[EM7180_REG_CAL_STATUS - EM7180_REG_PARAM_ACK];
-	bool single = data->param_single;
+	bool stops = data->ptr_stops;
 	bool flags = data->appnote;
 	u32 dummy;
 	int ret;
 
 	ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, regs,
-			       single || !flags ? 1 : sizeof(regs));
-	if (!ret && single && flags)
+			       stops || !flags ? 1 : sizeof(regs));
+	if (!ret && stops && flags)
 		ret = regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, cal,
 				       EM7180_CAL_BLOCK_LEN);
 	if (ret)
 		return ret;
-	if (flags && (single || memchr_inv(regs, regs[0], sizeof(regs))))
+	if (flags)
 		em7180_cal_update(data, cal);
 	if (regs[0] != first_req)
 		return 0;
@@ -311,19 +331,14 @@ static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 				    EM7180_PARAM_MAX + 1, 0, &dummy, true);
 }
 
-/* End the transfer on every path, each write retried once */
+/* End the transfer on every path */
 static int em7180_param_end(struct em7180_data *data)
 {
 	int ret, ret2;
 
 	ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
-	if (ret)
-		ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
-	/* A scan announced before the algorithm resumes is not pushed */
-	WRITE_ONCE(data->xfer_seq, data->xfer_seq + 1);
 	ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
-	if (ret2)
-		ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+	em7180_resumed(data);
 	/* Bit 7 would keep fusion paused: try again later, then reset */
 	if (ret2) {
 		data->xfer_stuck = true;
@@ -333,56 +348,29 @@ static int em7180_param_end(struct em7180_data *data)
 	return ret ?: ret2;
 }
 
-static int em7180_param_batch(struct em7180_data *data, unsigned int first,
-			      unsigned int count, const u32 *in, u32 *out,
-			      unsigned int *acked)
+static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
+			     unsigned int count, const u32 *in, u32 *out)
 {
 	u8 write = in ? EM7180_PARAM_WRITE : 0;
 	bool started = false;
 	unsigned int i;
 	int ret, end;
 
-	*acked = 0;
+	lockdep_assert_held(&data->lock);
+
+	if (!count || !first || first + count - 1 > EM7180_PARAM_MAX)
+		return -EINVAL;
+
 	ret = em7180_param_begin(data, first | write, &started);
 	for (i = 0; !ret && i < count; i++) {
 		ret = em7180_param_request(data, (first + i) | write,
 					   in ? in[i] : 0, out ? &out[i] : NULL,
 					   !started);
 		started = true;
-		*acked += !ret;
 	}
 	end = em7180_param_end(data);
 
 	return ret ?: end;
-}
-
-/*
- * A burst write never acknowledged may not have reached ParamRequest (a
- * pointer that stops at 0x63): try once as the reference hosts write.
- */
-static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
-			     unsigned int count, const u32 *in, u32 *out)
-{
-	unsigned int acked;
-	int ret;
-
-	lockdep_assert_held(&data->lock);
-
-	if (!count || !first || first + count - 1 > EM7180_PARAM_MAX)
-		return -EINVAL;
-
-	ret = em7180_param_batch(data, first, count, in, out, &acked);
-	if (ret != -ETIMEDOUT || !in || acked || data->param_single)
-		return ret;
-
-	data->param_single = true;
-	ret = em7180_param_batch(data, first, count, in, out, &acked);
-	if (ret)
-		data->param_single = false;
-	else
-		dev_info(data->dev,
-			 "parameter writes in one burst are not acknowledged: writing one register at a time\n");
-	return ret;
 }
 
 /**
@@ -392,8 +380,9 @@ static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
  * @count: number of parameters
  * @vals: where to store the raw 32-bit values
  *
- * Costs 2 * @count + 4 transactions (one more per parameter for a chip
- * that needs one register per transfer); the algorithm runs on return.
+ * Costs 2 * @count + 4 transactions (one more per parameter where the
+ * register pointer stops, em7180_param_pointer()); the algorithm runs on
+ * return.
  *
  * Return: 0, -EINVAL for a bad range, -ETIMEDOUT when a parameter is not
  * acknowledged within 1 s, or the bus error.

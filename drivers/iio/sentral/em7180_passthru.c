@@ -21,9 +21,10 @@
  * select, cleared in deselect, which the core calls in the same task
  * whatever select returned) em7180_lock() waits: the stream, parameter
  * transfers and recovery never find the hub there, and a scan announced
- * before it is not pushed (xfer_seq). No lock is held from select to
- * deselect: the interrupt thread only reads EventStatus meanwhile, for a
- * reset or an error, as the reference hosts read it during passthrough.
+ * before its end is not pushed (em7180_resumed()). No lock is held from
+ * select to deselect: the interrupt thread only reads EventStatus
+ * meanwhile, for a reset or an error, as the reference hosts read it
+ * during passthrough.
  */
 
 #include <linux/device.h>
@@ -46,19 +47,6 @@
 #define EM7180_PASSTHRU_POLL_US		1000
 #define EM7180_PASSTHRU_TIMEOUT_US	1000000
 
-/* Bus errors are retried once, as the end of a parameter transfer does */
-static int em7180_passthru_write(struct em7180_data *data, unsigned int reg,
-				 unsigned int val)
-{
-	int ret;
-
-	ret = regmap_write(data->regmap, reg, val);
-	if (ret)
-		ret = regmap_write(data->regmap, reg, val);
-
-	return ret;
-}
-
 static int em7180_passthru_wait(struct em7180_data *data, unsigned int reg,
 				unsigned int bit, bool set)
 {
@@ -80,10 +68,10 @@ VISIBLE_IF_KUNIT int em7180_passthru_select(struct i2c_mux_core *muxc,
 	guard(em7180)(data);
 	WRITE_ONCE(data->passthru, true);
 
-	ret = em7180_passthru_write(data, EM7180_REG_ALGO_CTRL,
-				    EM7180_ALGO_CTRL_STANDBY) ?:
-	      em7180_passthru_write(data, EM7180_REG_PASSTHRU_CTRL,
-				    EM7180_PASSTHRU_ON) ?:
+	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
+			   EM7180_ALGO_CTRL_STANDBY) ?:
+	      regmap_write(data->regmap, EM7180_REG_PASSTHRU_CTRL,
+			   EM7180_PASSTHRU_ON) ?:
 	      em7180_passthru_wait(data, EM7180_REG_PASSTHRU_STATUS,
 				   EM7180_PASSTHRU_ON, true);
 	if (ret)
@@ -108,12 +96,11 @@ VISIBLE_IF_KUNIT int em7180_passthru_deselect(struct i2c_mux_core *muxc,
 	int ret;
 
 	guard(mutex)(&data->lock);
-	ret = em7180_passthru_write(data, EM7180_REG_PASSTHRU_CTRL, 0) ?:
+	ret = regmap_write(data->regmap, EM7180_REG_PASSTHRU_CTRL, 0) ?:
 	      em7180_passthru_wait(data, EM7180_REG_PASSTHRU_STATUS,
 				   EM7180_PASSTHRU_ON, false);
-	WRITE_ONCE(data->xfer_seq, data->xfer_seq + 1);
 	if (!ret)
-		ret = em7180_passthru_write(data, EM7180_REG_ALGO_CTRL, 0) ?:
+		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0) ?:
 		      em7180_passthru_wait(data, EM7180_REG_ALGO_STATUS,
 					   EM7180_ALGO_STATUS_HALTED, false);
 	if (!ret)
@@ -134,8 +121,9 @@ VISIBLE_IF_KUNIT int em7180_passthru_deselect(struct i2c_mux_core *muxc,
 			em7180_recover_schedule(data);
 	}
 
+	em7180_resumed(data);
 	WRITE_ONCE(data->passthru, false);
-	wake_up_all(&data->passthru_wq);
+	wake_up_all(&data->wq);
 	return ret;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_passthru_deselect);

@@ -184,8 +184,6 @@ static int em7180_upload_text(struct em7180_data *data, u32 *crc)
 				       sizeof(chip_crc));
 
 	err = regmap_write(map, EM7180_REG_HOST_CTRL, 0);
-	if (err)
-		err = regmap_write(map, EM7180_REG_HOST_CTRL, 0);
 	regcache_cache_bypass(map, false);
 	if (err)
 		dev_err(data->dev, "chip left in upload mode: %d\n", err);
