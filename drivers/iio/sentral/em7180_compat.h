@@ -116,6 +116,7 @@ static inline int iio_push_to_buffers_with_ts(struct iio_dev *indio_dev,
  * Mainline's typed scan buffer declarations, where the kernel's iio.h has
  * them not yet: tested by name, not by a version that might miss one.
  */
+#include <linux/iio/iio.h>
 #ifndef IIO_DECLARE_BUFFER_WITH_TS
 #define IIO_DECLARE_BUFFER_WITH_TS(type, name, count)			\
 	type name[ALIGN((count), sizeof(s64) / sizeof(type)) +		\
