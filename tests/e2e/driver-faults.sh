@@ -491,10 +491,12 @@ echo 0 >"$DEV/in_accel_x_calibbias"
 t0=$(dbg_get stats transactions)
 ok "calibbias write" sh -c "echo -47 > $DEV/in_accel_y_calibbias"
 clean=$(($(dbg_get stats transactions) - t0))
-# 6, and 2 more where the register pointer stops at 0x3A (autoinc_stop):
-# the last two are the end's ParamRequest = 0 and bit 7 clear
+# 6 (ParamAcknowledge read, LoadParam0..3 with ParamRequest, bit 7 set,
+# the acknowledge, then the end's ParamRequest = 0 and bit 7 clear), 1 more
+# where the register pointer stops at 0x63 (autoinc_stop): ParamRequest
+# written apart
 single=$(cat "$SIM_DBG/autoinc_stop")
-is "costs $((6 + 2 * single)) transactions" "$clean" $((6 + 2 * single))
+is "costs $((6 + single)) transactions" "$clean" $((6 + single))
 # 6 NACKs: the write's 2 end writes; the read of the offsets that follows
 # a failed write (its start, its 2 end writes); the later try.
 knob nack_run 6
