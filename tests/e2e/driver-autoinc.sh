@@ -15,8 +15,14 @@ knob gbias_period_ms 3600000
 knob motion 0
 DEV=$(em7180_dir)
 ok "an em7180 IIO device is present" test -n "$DEV"
-nok "a chip whose pointer crosses: nothing said" \
-	sh -c "dmesg | grep -q 'register pointer stops'"
+said() { dmesg | grep -c 'register pointer stops at 0x63'; }
+# Under the knob matrix's autoinc_stop=1 the chip stopped from the boot on
+if [ "$(cat "$SIM_DBG/autoinc_stop")" = 0 ]; then
+	is "a chip whose pointer crosses: nothing said" "$(said)" 0
+else
+	is "a chip whose pointer stops from power-on: probe said so once" "$(said)" 1
+fi
+said0=$(said)
 
 # rebind: the chip as it would be met at boot, the knob set before probe
 CLIENT=$(basename "$(readlink -f "$DEV/..")")
@@ -28,7 +34,7 @@ rebind() {
 knob autoinc_stop 1
 rebind
 ok "bound with the pointer stopping" test -n "$DEV"
-is "probe says so once" "$(dmesg | grep -c 'register pointer stops at 0x63')" 1
+is "probe says so once" "$(said)" $((said0 + 1))
 
 ok "calibration_data read" dd if="$DEV/calibration_data" of="$TMP/a.bin" \
 	bs=140 count=1 status=none
@@ -67,7 +73,7 @@ is "one register per transaction: 3 per parameter + $((4 + note))" \
 knob autoinc_stop 0
 rebind
 ok "bound again" test -n "$DEV"
-is "nothing more said" "$(dmesg | grep -c 'register pointer stops at 0x63')" 1
+is "nothing more said" "$(said)" $((said0 + 1))
 ok "calibration_data read" dd if="$DEV/calibration_data" of="$TMP/d.bin" \
 	bs=140 count=1 status=none
 is "it returns what was written" "$(blob_words <"$TMP/d.bin")" \

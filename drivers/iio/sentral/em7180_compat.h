@@ -112,13 +112,17 @@ static inline int iio_push_to_buffers_with_ts(struct iio_dev *indio_dev,
 }
 #endif
 
-/* The typed scan buffers of 6.16 (iio-for-6.16a) and the quaternion's of 6.17 */
-#if KERNEL_VERSION(6, 16, 0) > LINUX_VERSION_CODE
+/*
+ * Mainline's typed scan buffer declarations, where the kernel's iio.h has
+ * them not yet: tested by name, not by a version that might miss one.
+ */
+#include <linux/iio/iio.h>
+#ifndef IIO_DECLARE_BUFFER_WITH_TS
 #define IIO_DECLARE_BUFFER_WITH_TS(type, name, count)			\
 	type name[ALIGN((count), sizeof(s64) / sizeof(type)) +		\
 		  sizeof(s64) / sizeof(type)] __aligned(sizeof(s64))
 #endif
-#if KERNEL_VERSION(6, 17, 0) > LINUX_VERSION_CODE
+#ifndef IIO_DECLARE_QUATERNION
 #define IIO_DECLARE_QUATERNION(type, name)				\
 	type name[4] __aligned(sizeof(type) * 4)
 #endif

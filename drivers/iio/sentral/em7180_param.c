@@ -337,8 +337,13 @@ static int em7180_param_end(struct em7180_data *data)
 	int ret, ret2;
 
 	ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, 0);
-	ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+	/*
+	 * Before the write that resumes the fusion: a sample that comes right
+	 * after it has a later interrupt time and is pushed, not taken for
+	 * one from before the pause.
+	 */
 	em7180_resumed(data);
+	ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
 	/* Bit 7 would keep fusion paused: try again later, then reset */
 	if (ret2) {
 		data->xfer_stuck = true;
