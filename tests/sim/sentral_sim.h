@@ -118,7 +118,7 @@ enum sim_stream_id {
 enum sim_drop_cause {
 	SIM_DROP_PENDING,	/* decided by the host's next transaction */
 	SIM_DROP_HELD,		/* the data timer ran half a period late */
-	SIM_DROP_IDLE,		/* it came while no data event was enabled */
+	SIM_DROP_IDLE,		/* it or that read came, no data event enabled */
 	SIM_DROP_LATE_IRQ,	/* the status read ended after the next sample */
 	SIM_DROP_LATE_WAKE,	/* the host came back from it after the next */
 	SIM_DROP_SLOW,		/* it came back before and read the data after */
@@ -197,6 +197,7 @@ struct sim_stream {
 	ktime_t seen_end;
 	ktime_t seen_ret;	/* the host back from it; 0: not yet */
 	u64 seen_xfer;
+	bool seen_idle;		/* EnableEvents enabled no data event then */
 	ktime_t next_start;	/* the host's next transaction; 0: none yet */
 	u8 next_kind;
 	u64 pending;		/* 1 + its drop_log entry awaiting more; 0 */

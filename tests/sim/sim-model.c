@@ -564,7 +564,7 @@ static void sim_drop_seen(struct sentral_sim *sim, struct sim_stream *st,
 
 	if (held)
 		cause = SIM_DROP_HELD;
-	else if (st->came_idle)
+	else if (st->came_idle || st->seen_idle)
 		cause = SIM_DROP_IDLE;
 	else if (ktime_after(st->seen_end, now))
 		cause = SIM_DROP_LATE_IRQ;
@@ -632,6 +632,8 @@ void sim_xfer_end(struct sentral_sim *sim, ktime_t end)
 			st->seen_end = end;
 			st->seen_ret = 0;
 			st->seen_xfer = sim->xfers;
+			st->seen_idle = !(sim->regs[SIM_REG_ENABLE_EVENTS] &
+					  SIM_EV_DATA);
 		}
 	}
 	sim->xfer_last_end = end;
