@@ -214,6 +214,10 @@ struct sim_stats {
 	u64 wire_late_100us;	/* woke 100 us or more after its end */
 	u64 wire_late_1ms;
 	s64 wire_late_max_ns;
+	/* the host back from a status read that saw data to its next transfer */
+	u64 host_gaps;
+	u64 host_gap_100us;
+	s64 host_gap_max_ns;
 	ktime_t first;
 	ktime_t last;
 };
@@ -263,6 +267,7 @@ struct sentral_sim {
 	u8 xfer_reads;		/* BIT(stream) of the blocks it read */
 	bool xfer_status;	/* it read EventStatus */
 	bool xfer_drdy;		/* and that reported new data */
+	ktime_t drdy_ret;	/* the host back from such a read; 0: used */
 	struct sim_drop drop_log[SIM_DROP_LOG];
 	u64 drops_logged;
 	u32 noise_state;

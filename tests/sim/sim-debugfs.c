@@ -654,6 +654,10 @@ static void stats_show(struct seq_file *m, struct sentral_sim *sim,
 	seq_printf(m, "wire_late_1ms %llu\n", st->wire_late_1ms);
 	seq_printf(m, "wire_late_max_us %lld\n",
 		   sim_ns_to_us(st->wire_late_max_ns));
+	seq_printf(m, "host_gaps %llu\n", st->host_gaps);
+	seq_printf(m, "host_gap_100us %llu\n", st->host_gap_100us);
+	seq_printf(m, "host_gap_max_us %lld\n",
+		   sim_ns_to_us(st->host_gap_max_ns));
 }
 
 static int stats_store(struct sentral_sim *sim, char *buf, ktime_t now)
@@ -661,6 +665,8 @@ static int stats_store(struct sentral_sim *sim, char *buf, ktime_t now)
 	if (strcmp(buf, "0"))
 		return -EINVAL;
 	memset(&sim->stats, 0, sizeof(sim->stats));
+	/* a status read before the reset is not the next transfer's */
+	sim->drdy_ret = 0;
 	return 0;
 }
 

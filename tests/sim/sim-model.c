@@ -581,6 +581,16 @@ static void sim_drop_seen(struct sentral_sim *sim, struct sim_stream *st,
 /* A transaction of the host begins at @start (sim_xfer_end() after it) */
 void sim_xfer_begin(struct sentral_sim *sim, ktime_t start)
 {
+	struct sim_stats *stats = &sim->stats;
+
+	if (sim->drdy_ret) {
+		s64 gap = ktime_to_ns(ktime_sub(start, sim->drdy_ret));
+
+		stats->host_gaps++;
+		stats->host_gap_100us += gap >= 100 * NSEC_PER_USEC;
+		stats->host_gap_max_ns = max(stats->host_gap_max_ns, gap);
+		sim->drdy_ret = 0;
+	}
 	sim->xfers++;
 	sim->xfer_start = start;
 	sim->xfer_reads = 0;
@@ -639,10 +649,13 @@ void sim_xfer_end(struct sentral_sim *sim, ktime_t end)
 	sim->xfer_last_end = end;
 }
 
-/* The host is back from transaction @xfer at @now */
+/* The host is back from transaction @xfer, the last one, at @now */
 void sim_xfer_return(struct sentral_sim *sim, u64 xfer, ktime_t now)
 {
 	int id;
+
+	if (sim->xfer_drdy)
+		sim->drdy_ret = now;
 
 	for (id = 0; id < SIM_NSTREAMS; id++) {
 		struct sim_stream *st = &sim->stream[id];
