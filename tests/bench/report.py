@@ -253,7 +253,7 @@ def drop_rows(row, st, indent):
     if "slow" in ev:
         e = ev["slow"]
         row(indent + "  slow: back from the status read before the next "
-            "sample, us; then the burst after, us",
+            "sample was due, us; then the burst after the return, us",
             "%d/%d/%d; %d/%d/%d" % (tuple(e["before_us"]) +
                                     tuple(e["gap_us"])))
     w = st["wire_waits"]

@@ -119,8 +119,8 @@ enum sim_drop_cause {
 	SIM_DROP_PENDING,	/* decided by the host's next transaction */
 	SIM_DROP_HELD,		/* the data timer ran half a period late */
 	SIM_DROP_IDLE,		/* it or that read came, no data event enabled */
-	SIM_DROP_LATE_IRQ,	/* the status read ended after the next sample */
-	SIM_DROP_LATE_WAKE,	/* the host came back from it after the next */
+	SIM_DROP_LATE_IRQ,	/* the status read ended after the next was due */
+	SIM_DROP_LATE_WAKE,	/* the host came back from it after that */
 	SIM_DROP_SLOW,		/* it came back before and read the data after */
 	SIM_DROP_UNREAD,	/* its next transaction was not the burst */
 	SIM_DROP_NCAUSES,
@@ -151,7 +151,7 @@ struct sim_drop {
 	s64 inflight_ns;	/* of a transaction on the wire when it came */
 	s64 latency_ns;		/* the sample to the status read's start */
 	s64 wire_ns;		/* the status read, start to end */
-	s64 margin_ns;		/* its end to the next sample */
+	s64 margin_ns;		/* its end to the next sample's due time */
 	s64 wake_ns;		/* its end to the host's return; -1: not yet */
 	s64 gap_ns;		/* that return to the next transaction; -1 */
 	s64 late_ns;		/* the next sample's timer behind its time */

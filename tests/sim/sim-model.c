@@ -531,14 +531,16 @@ static struct sim_drop *sim_drop_entry(struct sentral_sim *sim, u64 n)
  * The cause of a sample lost after the host read a data-ready since it came
  * (tests/sim/README.md), decided now that the next one replaces it or, when
  * the host came back from that read in time and made no transaction since,
- * by its next one. The entry awaits the host's return from the read and its
- * next transaction for their times.
+ * by its next one. In time is before the next sample was due, when a real
+ * chip makes it: this timer may run late. The entry awaits the host's
+ * return from the read and its next transaction for their times.
  */
 static void sim_drop_seen(struct sentral_sim *sim, struct sim_stream *st,
 			  ktime_t now, s64 late_ns, bool held)
 {
 	struct sim_drop *d = sim_drop_entry(sim, sim->drops_logged);
 	enum sim_drop_cause cause = SIM_DROP_PENDING;
+	ktime_t due = ktime_sub_ns(now, late_ns);
 
 	*d = (struct sim_drop){
 		.stream = st - sim->stream,
@@ -550,7 +552,7 @@ static void sim_drop_seen(struct sentral_sim *sim, struct sim_stream *st,
 		.inflight_ns = st->came_inflight_ns,
 		.latency_ns = ktime_to_ns(ktime_sub(st->seen_start, st->came)),
 		.wire_ns = ktime_to_ns(ktime_sub(st->seen_end, st->seen_start)),
-		.margin_ns = ktime_to_ns(ktime_sub(now, st->seen_end)),
+		.margin_ns = ktime_to_ns(ktime_sub(due, st->seen_end)),
 		.wake_ns = -1,
 		.gap_ns = -1,
 		.late_ns = late_ns,
@@ -566,9 +568,9 @@ static void sim_drop_seen(struct sentral_sim *sim, struct sim_stream *st,
 		cause = SIM_DROP_HELD;
 	else if (st->came_idle || st->seen_idle)
 		cause = SIM_DROP_IDLE;
-	else if (ktime_after(st->seen_end, now))
+	else if (ktime_after(st->seen_end, due))
 		cause = SIM_DROP_LATE_IRQ;
-	else if (!st->seen_ret || ktime_after(st->seen_ret, now))
+	else if (!st->seen_ret || ktime_after(st->seen_ret, due))
 		cause = SIM_DROP_LATE_WAKE;
 	else if (st->next_start)
 		cause = SIM_DROP_UNREAD;
