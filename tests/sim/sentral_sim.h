@@ -119,9 +119,11 @@ enum sim_drop_cause {
 	SIM_DROP_PENDING,	/* decided by the host's next transaction */
 	SIM_DROP_HELD,		/* the data timer ran half a period late */
 	SIM_DROP_IDLE,		/* it or that read came, no data event enabled */
-	SIM_DROP_LATE_IRQ,	/* the status read ended after the next was due */
-	SIM_DROP_LATE_WAKE,	/* the host came back from it after that */
-	SIM_DROP_SLOW,		/* it came back before and read the data after */
+	SIM_DROP_LATE_IRQ,	/* the status read ended after the next was due,
+				 * or the sample came half a period late
+				 */
+	SIM_DROP_LATE_WAKE,	/* the host came back from it too late */
+	SIM_DROP_SLOW,		/* its own time to the burst was too long */
 	SIM_DROP_UNREAD,	/* its next transaction was not the burst */
 	SIM_DROP_NCAUSES,
 };

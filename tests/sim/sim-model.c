@@ -568,7 +568,8 @@ static void sim_drop_seen(struct sentral_sim *sim, struct sim_stream *st,
 		cause = SIM_DROP_HELD;
 	else if (st->came_idle || st->seen_idle)
 		cause = SIM_DROP_IDLE;
-	else if (ktime_after(st->seen_end, due))
+	else if (ktime_after(st->seen_end, due) ||
+		 st->came_late_ns >= st->period_ns / 2)
 		cause = SIM_DROP_LATE_IRQ;
 	else if (!st->seen_ret || ktime_after(st->seen_ret, due))
 		cause = SIM_DROP_LATE_WAKE;
@@ -578,6 +579,20 @@ static void sim_drop_seen(struct sentral_sim *sim, struct sim_stream *st,
 	st->drops_cause[cause]++;
 	sim->drops_logged++;
 	st->pending = st->next_start ? 0 : sim->drops_logged;
+}
+
+/*
+ * A host that came back from the status read before the next sample was due
+ * and then read another register was not late: it did not read the data.
+ * If it read the data, whose the delay was: had it come back at the read's
+ * end, would the same time to its burst have fit before the due time? If
+ * so, its late wake-up lost the sample; if not, its own time did.
+ */
+static u8 sim_drop_late(const struct sim_drop *d, u8 kind)
+{
+	if (kind != SIM_XFER_BURST)
+		return SIM_DROP_UNREAD;
+	return d->gap_ns < d->margin_ns ? SIM_DROP_LATE_WAKE : SIM_DROP_SLOW;
 }
 
 /* A transaction of the host begins at @start (sim_xfer_end() after it) */
@@ -627,8 +642,7 @@ void sim_xfer_end(struct sentral_sim *sim, ktime_t end)
 				d->gap_ns = ktime_to_ns(ktime_sub(sim->xfer_start,
 								  d->seen_ret));
 			if (d->cause == SIM_DROP_PENDING) {
-				d->cause = kind == SIM_XFER_BURST ?
-					   SIM_DROP_SLOW : SIM_DROP_UNREAD;
+				d->cause = sim_drop_late(d, kind);
 				st->drops_cause[SIM_DROP_PENDING]--;
 				st->drops_cause[d->cause]++;
 			}
