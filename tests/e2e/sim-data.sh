@@ -215,6 +215,27 @@ is "the second was lost seen" "$(dbg_get samples mag_drops_seen)" 1
 is "it came before the host streamed: idle" \
 	"$(dbg_get samples mag_drops_seen_idle)" 1
 
+# A host that came back from the status read in time and read the data a
+# period after the next sample, later than an interrupt served and a thread
+# woken at once would excuse: slow
+ok "EnableEvents accel" sim_wr 0x33 0x10
+knob samples 0
+ok "run" sim_wr 0x34 0x01
+ok "a first sample" wait_for 2 accel_at_least 1
+ok "read it" sim_rd 0x1a 8
+n=$(dbg_get samples accel)
+ok "a second sample" wait_for 2 accel_at_least $((n + 1))
+ok "its EventStatus" sim_rd 0x35
+ok "two more samples" wait_for 2 accel_at_least $((n + 3))
+ok "read the block" sim_rd 0x1a 8
+ok "stop" sim_wr 0x34 0x00
+is "the second was lost seen" "$(dbg_get samples accel_drops_seen)" 1
+held=$(dbg_get samples accel_drops_seen_held)
+is "by the host's own time between its two reads (or a held timer)" \
+	"$(($(dbg_get samples accel_drops_seen_slow) + held))" 1
+like "its evidence: the next transaction was the burst" \
+	"$(cat "$SIM_DBG/drops")" '^accel (slow|held) .* next burst '
+
 # EventStatus latches every event; EnableEvents gates only the INT pin, as
 # on silicon (hosts tested on boards enable 0x07 and use the data bits).
 ok "rates: mag 10 Hz, accel and gyro 100 Hz" sim_wr 0x55 0x0a 0x0a 0x0a

@@ -584,15 +584,21 @@ static void sim_drop_seen(struct sentral_sim *sim, struct sim_stream *st,
 /*
  * A host that came back from the status read before the next sample was due
  * and then read another register was not late: it did not read the data.
- * If it read the data, whose the delay was: had it come back at the read's
- * end, would the same time to its burst have fit before the due time? If
- * so, its late wake-up lost the sample; if not, its own time did.
+ * If it read the data, whose the delay was: would the same time from its
+ * return to its burst have fitted before the due time had it come back at
+ * the read's end (then its late wake-up lost the sample), or had the read
+ * also come at once after the sample (then the late interrupt did)? If
+ * not, its own time did.
  */
 static u8 sim_drop_late(const struct sim_drop *d, u8 kind)
 {
 	if (kind != SIM_XFER_BURST)
 		return SIM_DROP_UNREAD;
-	return d->gap_ns < d->margin_ns ? SIM_DROP_LATE_WAKE : SIM_DROP_SLOW;
+	if (d->gap_ns < d->margin_ns)
+		return SIM_DROP_LATE_WAKE;
+	if (d->gap_ns < d->latency_ns + d->margin_ns)
+		return SIM_DROP_LATE_IRQ;
+	return SIM_DROP_SLOW;
 }
 
 /* A transaction of the host begins at @start (sim_xfer_end() after it) */
