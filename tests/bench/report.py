@@ -140,6 +140,21 @@ def plan_bus(khz, rates):
               ",".join(b[0] for b in blocks_of(chans)), " ".join(chans))
 
 
+# The simulator's causes of a sample lost after the driver had read its
+# data-ready (tests/sim/README.md): the driver's (it came back from the
+# status read in time and read the data too late, or read something else;
+# pending: undecided at the end, counted as the driver's), the harness's
+# (the machine: a data timer held up, the interrupt served or the thread
+# woken after the next sample came) and nobody's (idle: the sample came
+# before the stream started, or was seen after it ended).
+DRIVER_CAUSES = ("slow", "unread", "pending")
+HARNESS_CAUSES = ("held", "late_irq", "late_wake")
+CAUSES = DRIVER_CAUSES + HARNESS_CAUSES + ("idle",)
+# The times each logged drop carries (us), as min/median/max per cause
+EVIDENCE = ("latency_us", "margin_us", "wake_us", "gap_us", "came_late_us",
+            "late_us", "before_us")
+
+
 # Per set: the steady state between snapshots a and b, the losses of the
 # whole stream (snapshot "end"). A scan is a new sample of the set's most
 # frequently read sensor; a lost one is counted on the sensor that lost most.
@@ -160,15 +175,35 @@ def stream_set(m, name, chans, p=None, khz=None):
     def end(s, k):
         return m["%s.end.%s_%s" % (p, s, k)]
 
-    # A sample lost after the driver saw its data-ready is the driver's,
-    # unless the simulator's timer that replaced it was held up.
-    drv = max(end(s, "drops_seen") - end(s, "drops_seen_held") for s in sensors)
-    har = max(end(s, "drops_unseen") + end(s, "drops_seen_held") for s in sensors)
+    def sum_of(get, s, causes):
+        return sum(get(s, "drops_seen_" + c) for c in causes)
+
+    # A sample lost after the driver saw its data-ready is the driver's
+    # when the simulator's cause is; the harness's also those lost before
+    # (drops_unseen: with those made after the stream stopped).
+    drv = max(sum_of(end, s, DRIVER_CAUSES) for s in sensors)
+    har = max(end(s, "drops_unseen") + sum_of(end, s, HARNESS_CAUSES)
+              for s in sensors)
     # the driver's between the steady-state snapshots, and the samples the
     # stream skipped (_gaps: not those made after it stopped)
-    drv_steady = max(d(s + "_drops_seen") - d(s + "_drops_seen_held")
+    drv_steady = max(sum_of(lambda s, k: d(s + "_" + k), s, DRIVER_CAUSES)
                      for s in sensors)
     gaps = max(end(s, "gaps") for s in sensors)
+    causes = {c: max(end(s, "drops_seen_" + c) for s in sensors)
+              for c in CAUSES}
+    causes["unseen"] = max(end(s, "drops_unseen") for s in sensors)
+    evidence = {}
+    for c in CAUSES:
+        q = "%s.cause.%s" % (p, c)
+        if q + ".logged" in m:
+            evidence[c] = {f: [m["%s.%s.%s" % (q, f, x)]
+                               for x in ("min", "med", "max")]
+                           for f in EVIDENCE}
+            evidence[c]["logged"] = m[q + ".logged"]
+    wire = {k: m["%s.end.%s" % (p, k)] for k in
+            ("wire_waits", "wire_late_100us", "wire_late_1ms",
+             "wire_late_max_us", "host_gaps", "host_gap_100us",
+             "host_gap_max_us")}
     return {
         "channels": chans,
         "rate_hz": rate,
@@ -186,9 +221,53 @@ def stream_set(m, name, chans, p=None, khz=None):
         "harness_drops": har,
         "harness_drops_timer_held": max(end(s, "gaps_held") for s in sensors),
         "driver_drops_steady": drv_steady,
+        "drops_by_cause": causes,
+        "drops_evidence": evidence,
+        "wire_waits": wire,
         "samples_skipped": gaps,
         "timer_late": m["%s.end.timer_late" % p],
     }
+
+
+# The rows that say whose the losses of stream @st were, with the evidence
+# of the harness's (min/median/max over the last 128 logged drops)
+def drop_rows(row, st, indent):
+    c = st["drops_by_cause"]
+    row(indent + "harness: late_wake / late_irq / held / unseen",
+        "%d / %d / %d / %d" % (c["late_wake"], c["late_irq"], c["held"],
+                               c["unseen"]))
+    ev = st["drops_evidence"]
+    if "late_wake" in ev:
+        e = ev["late_wake"]
+        row(indent + "  late_wake: back from the status read after its end, "
+            "us (min/med/max)", "%d/%d/%d" % tuple(e["wake_us"]),
+            "> margin %d/%d/%d" % tuple(e["margin_us"]))
+        row(indent + "  late_wake: the burst after the return, us",
+            "%d/%d/%d" % tuple(e["gap_us"]))
+    if "late_irq" in ev:
+        e = ev["late_irq"]
+        row(indent + "  late_irq: sample to the status read, us; the "
+            "sample's timer late, us",
+            "%d/%d/%d; %d/%d/%d" % (tuple(e["latency_us"]) +
+                                    tuple(e["came_late_us"])))
+    if "slow" in ev:
+        e = ev["slow"]
+        row(indent + "  slow: back from the status read before the next "
+            "sample was due, us; then the burst after the return, us",
+            "%d/%d/%d; %d/%d/%d" % (tuple(e["before_us"]) +
+                                    tuple(e["gap_us"])))
+    w = st["wire_waits"]
+    if w["wire_waits"]:
+        row(indent + "every transfer's wake-up after its wire time: late "
+            ">= 100 us / >= 1 ms / max us",
+            "%d / %d of %d / %d" % (w["wire_late_100us"], w["wire_late_1ms"],
+                                    w["wire_waits"], w["wire_late_max_us"]))
+    row(indent + "every scan: the driver's return from the status read to "
+        "its burst >= 100 us / max us",
+        "%d of %d / %d" % (w["host_gap_100us"], w["host_gaps"],
+                           w["host_gap_max_us"]))
+    row(indent + "nobody's: idle (before the stream, after its end)",
+        c["idle"])
 
 
 # Streams per bus clock (tests/bench/bench stream_bus): per clock and set,
@@ -335,12 +414,15 @@ def main():
             "floor %d (span %d)" % (st["floor_bytes_per_scan"], st["span_bytes"]))
         row("  achieved_hz / produced_hz (steady state)",
             "%.1f/%.1f" % (st["achieved_hz"], st["produced_hz"]))
-        row("  driver_drops (data-ready seen, not read)", st["driver_drops"],
+        row("  driver_drops (data-ready seen: slow / unread / pending)",
+            "%d (%d / %d / %d)" % ((st["driver_drops"],) + tuple(
+                st["drops_by_cause"][c] for c in DRIVER_CAUSES)),
             "0", st["driver_drops"] == 0)
-        row("  harness_drops (interrupt not served in time)",
+        row("  harness_drops (the machine: served or woke too late)",
             st["harness_drops"])
-        row("    of which the sim's timer was held up",
+        row("    gaps whose sample the sim's held-up timer replaced",
             st["harness_drops_timer_held"])
+        drop_rows(row, st, "    ")
 
     # Streams per bus clock, the wire time modelled: per set, the rates
     # tried from the one the wire allows down; the highest without a
@@ -367,6 +449,7 @@ def main():
                 "%d (%d) / %d / %d" % (t["driver_drops"],
                                        t["driver_drops_steady"],
                                        t["samples_skipped"], t["timer_late"]))
+            drop_rows(row, t, "    ")
         below = [t for t in b["rates"]
                  if b["drop_free_rate_hz"] and t["rate_hz"] < b["drop_free_rate_hz"]]
         if below:
@@ -447,11 +530,11 @@ def main():
         % (m["autosave.stream_rate_hz"], res["autosave.stream_gap_pause_ms"]),
         res["autosave.stream_gap_ms"], "<= %.1f" % (gap_goal / 1000),
         m["autosave.stream_gap_us"] <= gap_goal)
-    # The driver's: lost after it read their data event, less those a
-    # late simulator timer replaced (the machine stalled), as for streams
+    # The driver's: lost after it read their data event, of the driver's
+    # causes, as for streams
     res["autosave.samples_lost"] = m["autosave.samples_lost"]
-    res["autosave.samples_lost_driver"] = (m["autosave.samples_lost_seen"]
-                                          - m["autosave.samples_lost_seen_held"])
+    res["autosave.samples_lost_driver"] = sum(
+        m["autosave.samples_lost_seen_" + c] for c in DRIVER_CAUSES)
     row("autosave.samples_lost (%d saves; the driver's: %d, the rest the harness's)"
         % (m["autosave.saves"], res["autosave.samples_lost_driver"]),
         res["autosave.samples_lost"], "driver's 0 (none is made in the pause)",

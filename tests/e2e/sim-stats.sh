@@ -20,7 +20,14 @@ bytes 0
 bus_time_us 0
 elapsed_us 0
 nacks 0
-params_served 0"
+params_served 0
+wire_waits 0
+wire_late_100us 0
+wire_late_1ms 0
+wire_late_max_us 0
+host_gaps 0
+host_gap_100us 0
+host_gap_max_us 0"
 
 sim_rd 0x90 2 >/dev/null
 is "w1 + r2: 1 transaction" "$(dbg_get stats transactions)" 1
@@ -79,6 +86,10 @@ ms=$((($(date +%s%N) - t0) / 1000000))
 # (1 + 18) + (1 + 9 * 256) + 1 = 2325 bits at 10 us
 is "100 kHz: w1 + r255 = 2325 bits = 23250 us" "$(dbg_get stats bus_time_us)" 23250
 ok "it took $ms >= 23 ms of real time" [ "$ms" -ge 23 ]
+is "one transfer waited for its wire time" "$(dbg_get stats wire_waits)" 1
+late=$(dbg_get stats wire_late_max_us)
+ok "how late it woke, $late us, is within the real time it took" \
+	[ $((late >= 0 && late <= ms * 1000 - 23250)) = 1 ]
 knob stats 0
 ok "nack_at 1" knob nack_at 1
 nok "a NACKed transaction" sim_rd 0x90

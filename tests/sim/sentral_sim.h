@@ -81,6 +81,8 @@
 #define SIM_EV_ACCEL		BIT(4)
 #define SIM_EV_GYRO		BIT(5)
 #define SIM_EV_FEATURE		BIT(6)
+#define SIM_EV_DATA		(SIM_EV_QUATERNION | SIM_EV_MAG | \
+				 SIM_EV_ACCEL | SIM_EV_GYRO)
 
 #define SIM_HOST_RUN		BIT(0)
 #define SIM_HOST_UPLOAD		BIT(1)
@@ -109,6 +111,59 @@ enum sim_stream_id {
 };
 
 /*
+ * Why a sample was lost after the host had read a data-ready since it came
+ * (tests/sim/README.md, "Whose loss a sample is"): the simulator sees every
+ * transaction and every sample's time.
+ */
+enum sim_drop_cause {
+	SIM_DROP_PENDING,	/* decided by the host's next transaction */
+	SIM_DROP_HELD,		/* the data timer ran half a period late */
+	SIM_DROP_IDLE,		/* it or that read came, no data event enabled */
+	SIM_DROP_LATE_IRQ,	/* the status read ended after the next was due,
+				 * or the sample came half a period late
+				 */
+	SIM_DROP_LATE_WAKE,	/* the host came back from it too late */
+	SIM_DROP_SLOW,		/* its own time to the burst was too long */
+	SIM_DROP_UNREAD,	/* its next transaction was not the burst */
+	SIM_DROP_NCAUSES,
+};
+
+/* What a transaction was to one stream */
+enum sim_xfer_kind {
+	SIM_XFER_NONE,
+	SIM_XFER_BURST,		/* it read the stream's block */
+	SIM_XFER_STATUS,	/* it read EventStatus, not the block */
+	SIM_XFER_OTHER,
+};
+
+/*
+ * One such loss and its evidence, in a ring per chip (debugfs drops). The
+ * status read is the first that reported a data-ready since the sample
+ * came; the host "comes back" from it when the transfer returns to the
+ * caller (the wire time modelled, the caller sleeps until its end).
+ */
+struct sim_drop {
+	u8 stream;
+	u8 cause;
+	u8 next;		/* enum sim_xfer_kind of the next transaction */
+	u32 busy;		/* transactions between the sample and the read */
+	u64 seen_xfer;		/* the read's number (sim->xfers) */
+	u64 period_ns;
+	s64 came_late_ns;	/* the sample's timer behind its time */
+	s64 inflight_ns;	/* of a transaction on the wire when it came */
+	s64 latency_ns;		/* the sample to the status read's start */
+	s64 wire_ns;		/* the status read, start to end */
+	s64 margin_ns;		/* its end to the next sample's due time */
+	s64 wake_ns;		/* its end to the host's return; -1: not yet */
+	s64 gap_ns;		/* that return to the next transaction; -1 */
+	s64 late_ns;		/* the next sample's timer behind its time */
+	ktime_t seen_end;
+	ktime_t seen_ret;
+};
+
+#define SIM_DROP_LOG		128
+
+/*
  * One output stream. Its TIME register is ts_base + floor(n * 32768 *
  * rate_den / rate_num) (1/32768 s units, EM7180 register reference §1),
  * n counting samples since the stream last (re)started, so a host can
@@ -132,8 +187,22 @@ struct sim_stream {
 	u64 gaps_held;		/* gaps whose sample a held timer replaced */
 	u64 drdy_mark;		/* sim->drdy_seen when the latest sample came */
 	u64 drops_seen;		/* lost after the host saw a data-ready */
-	u64 drops_seen_held;	/* of those, replaced by a held timer */
+	u64 drops_cause[SIM_DROP_NCAUSES];	/* of those, per cause */
 	u64 drops_unseen;	/* lost before the host saw any */
+	/* the latest sample's way to the host, for the cause of its loss */
+	ktime_t came;
+	u64 came_xfer;		/* sim->xfers when it came */
+	s64 came_late_ns;
+	s64 came_inflight_ns;
+	bool came_idle;		/* EnableEvents enabled no data event then */
+	ktime_t seen_start;	/* the status read that saw it; 0: none yet */
+	ktime_t seen_end;
+	ktime_t seen_ret;	/* the host back from it; 0: not yet */
+	u64 seen_xfer;
+	bool seen_idle;		/* EnableEvents enabled no data event then */
+	ktime_t next_start;	/* the host's next transaction; 0: none yet */
+	u8 next_kind;
+	u64 pending;		/* 1 + its drop_log entry awaiting more; 0 */
 };
 
 struct sim_stats {
@@ -142,6 +211,15 @@ struct sim_stats {
 	u64 bus_ns;
 	u64 nacks;
 	u64 params_served;
+	/* transfers that waited for their wire time, and how late they woke */
+	u64 wire_waits;
+	u64 wire_late_100us;	/* woke 100 us or more after its end */
+	u64 wire_late_1ms;
+	s64 wire_late_max_ns;
+	/* the host back from a status read that saw data to its next transfer */
+	u64 host_gaps;
+	u64 host_gap_100us;
+	s64 host_gap_max_ns;
 	ktime_t first;
 	ktime_t last;
 };
@@ -184,6 +262,16 @@ struct sentral_sim {
 	u64 cal_updates_read[2];
 	u8 event_status;
 	u64 drdy_seen;		/* EventStatus reads that reported new data */
+	/* the transaction in progress, for the causes of drops */
+	u64 xfers;		/* since load, never reset */
+	ktime_t xfer_start;
+	ktime_t xfer_last_end;	/* of the last one */
+	u8 xfer_reads;		/* BIT(stream) of the blocks it read */
+	bool xfer_status;	/* it read EventStatus */
+	bool xfer_drdy;		/* and that reported new data */
+	ktime_t drdy_ret;	/* the host back from such a read; 0: used */
+	struct sim_drop drop_log[SIM_DROP_LOG];
+	u64 drops_logged;
 	u32 noise_state;
 
 	/* Sample production */
@@ -295,6 +383,9 @@ bool sim_algo_running(struct sentral_sim *sim, ktime_t now);
 bool sim_nacks(struct sentral_sim *sim, ktime_t now);
 void sim_int_stuck(struct sentral_sim *sim);
 void sim_event(struct sentral_sim *sim, u8 ev);
+void sim_xfer_begin(struct sentral_sim *sim, ktime_t start);
+void sim_xfer_end(struct sentral_sim *sim, ktime_t end);
+void sim_xfer_return(struct sentral_sim *sim, u64 xfer, ktime_t now);
 void sim_error(struct sentral_sim *sim, u8 code);
 
 /* sim-main.c */

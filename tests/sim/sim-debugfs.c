@@ -7,6 +7,7 @@
 #include <linux/debugfs.h>
 #include <linux/fs.h>
 #include <linux/kernel.h>
+#include <linux/math64.h>
 #include <linux/seq_file.h>
 #include <linux/slab.h>
 #include <linux/string.h>
@@ -40,6 +41,24 @@ static const char * const sim_stream_names[SIM_NSTREAMS] = {
 	[SIM_MAG] = "mag",
 	[SIM_ACCEL] = "accel",
 	[SIM_GYRO] = "gyro",
+};
+
+/* enum sim_drop_cause: each a count next to _drops_seen in samples */
+static const char * const sim_drop_causes[SIM_DROP_NCAUSES] = {
+	[SIM_DROP_PENDING] = "pending",
+	[SIM_DROP_HELD] = "held",
+	[SIM_DROP_IDLE] = "idle",
+	[SIM_DROP_LATE_IRQ] = "late_irq",
+	[SIM_DROP_LATE_WAKE] = "late_wake",
+	[SIM_DROP_SLOW] = "slow",
+	[SIM_DROP_UNREAD] = "unread",
+};
+
+static const char * const sim_xfer_kinds[] = {
+	[SIM_XFER_NONE] = "none",
+	[SIM_XFER_BURST] = "burst",
+	[SIM_XFER_STATUS] = "status",
+	[SIM_XFER_OTHER] = "other",
 };
 
 static int sim_parse_u32(const char *buf, u32 max, u32 *val)
@@ -612,6 +631,11 @@ static int power_cycle_store(struct sentral_sim *sim, char *buf, ktime_t now)
 	return 0;
 }
 
+static s64 sim_ns_to_us(s64 ns)
+{
+	return div_s64(ns, NSEC_PER_USEC);
+}
+
 static void stats_show(struct seq_file *m, struct sentral_sim *sim,
 		       ktime_t now)
 {
@@ -625,6 +649,15 @@ static void stats_show(struct seq_file *m, struct sentral_sim *sim,
 		   st->transactions ? ktime_us_delta(st->last, st->first) : 0);
 	seq_printf(m, "nacks %llu\n", st->nacks);
 	seq_printf(m, "params_served %llu\n", st->params_served);
+	seq_printf(m, "wire_waits %llu\n", st->wire_waits);
+	seq_printf(m, "wire_late_100us %llu\n", st->wire_late_100us);
+	seq_printf(m, "wire_late_1ms %llu\n", st->wire_late_1ms);
+	seq_printf(m, "wire_late_max_us %lld\n",
+		   sim_ns_to_us(st->wire_late_max_ns));
+	seq_printf(m, "host_gaps %llu\n", st->host_gaps);
+	seq_printf(m, "host_gap_100us %llu\n", st->host_gap_100us);
+	seq_printf(m, "host_gap_max_us %lld\n",
+		   sim_ns_to_us(st->host_gap_max_ns));
 }
 
 static int stats_store(struct sentral_sim *sim, char *buf, ktime_t now)
@@ -632,13 +665,15 @@ static int stats_store(struct sentral_sim *sim, char *buf, ktime_t now)
 	if (strcmp(buf, "0"))
 		return -EINVAL;
 	memset(&sim->stats, 0, sizeof(sim->stats));
+	/* a status read before the reset is not the next transfer's */
+	sim->drdy_ret = 0;
 	return 0;
 }
 
 static void samples_show(struct seq_file *m, struct sentral_sim *sim,
 			 ktime_t now)
 {
-	int id;
+	int id, i;
 
 	for (id = 0; id < SIM_NSTREAMS; id++) {
 		const char *name = sim_stream_names[id];
@@ -650,11 +685,37 @@ static void samples_show(struct seq_file *m, struct sentral_sim *sim,
 		seq_printf(m, "%s_gaps %llu\n", name, st->gaps);
 		seq_printf(m, "%s_gaps_held %llu\n", name, st->gaps_held);
 		seq_printf(m, "%s_drops_seen %llu\n", name, st->drops_seen);
-		seq_printf(m, "%s_drops_seen_held %llu\n", name,
-			   st->drops_seen_held);
+		for (i = 0; i < SIM_DROP_NCAUSES; i++)
+			seq_printf(m, "%s_drops_seen_%s %llu\n", name,
+				   sim_drop_causes[i], st->drops_cause[i]);
 		seq_printf(m, "%s_drops_unseen %llu\n", name, st->drops_unseen);
 	}
 	seq_printf(m, "timer_late %llu\n", sim->timer_late);
+}
+
+/* The last SIM_DROP_LOG drops a host saw coming, oldest first */
+static void drops_show(struct seq_file *m, struct sentral_sim *sim,
+		       ktime_t now)
+{
+	u64 n = sim->drops_logged;
+	u64 i = n > SIM_DROP_LOG ? n - SIM_DROP_LOG : 0;
+
+	for (; i < n; i++) {
+		const struct sim_drop *d = &sim->drop_log[i % SIM_DROP_LOG];
+
+		seq_printf(m, "%s %s period_us %llu came_late_us %lld inflight_us %lld busy %u latency_us %lld wire_us %lld margin_us %lld wake_us %lld gap_us %lld next %s late_us %lld\n",
+			   sim_stream_names[d->stream],
+			   sim_drop_causes[d->cause],
+			   div_u64(d->period_ns, NSEC_PER_USEC),
+			   sim_ns_to_us(d->came_late_ns),
+			   sim_ns_to_us(d->inflight_ns), d->busy,
+			   sim_ns_to_us(d->latency_ns),
+			   sim_ns_to_us(d->wire_ns),
+			   sim_ns_to_us(d->margin_ns),
+			   d->wake_ns < 0 ? -1 : sim_ns_to_us(d->wake_ns),
+			   d->gap_ns < 0 ? -1 : sim_ns_to_us(d->gap_ns),
+			   sim_xfer_kinds[d->next], sim_ns_to_us(d->late_ns));
+	}
 }
 
 static int samples_store(struct sentral_sim *sim, char *buf, ktime_t now)
@@ -672,11 +733,16 @@ static int samples_store(struct sentral_sim *sim, char *buf, ktime_t now)
 		sim->stream[id].held_unread = 0;
 		sim->stream[id].gaps_held = 0;
 		sim->stream[id].drops_seen = 0;
-		sim->stream[id].drops_seen_held = 0;
+		memset(sim->stream[id].drops_cause, 0,
+		       sizeof(sim->stream[id].drops_cause));
 		sim->stream[id].drops_unseen = 0;
 		sim->stream[id].unread = false;
+		sim->stream[id].seen_start = 0;
+		sim->stream[id].next_start = 0;
+		sim->stream[id].pending = 0;
 	}
 	sim->timer_late = 0;
+	sim->drops_logged = 0;
 	return 0;
 }
 
@@ -770,6 +836,7 @@ static const struct sim_knob sim_knobs[] = {
 	{ "power_cycle", 0200, NULL, power_cycle_store },
 	{ "stats", 0600, stats_show, stats_store },
 	{ "samples", 0600, samples_show, samples_store },
+	{ "drops", 0400, drops_show, NULL },
 	{ "params", 0400, params_show, NULL },
 	{ "regs", 0400, regs_show, NULL },
 	{ "state", 0400, state_show, NULL },

@@ -223,6 +223,32 @@ static void sim_wire_wait(ktime_t end)
 	}
 }
 
+/*
+ * The caller is back from transaction @xfer, which had waited for its wire
+ * time until @end if @waited: when, for the causes of drops, and how late
+ * the wait woke (the machine's timers and scheduling, not the host driver)
+ */
+static void sim_returned(struct sentral_sim *sim, u64 xfer, ktime_t end,
+			 bool waited)
+{
+	struct sim_stats *st = &sim->stats;
+	unsigned long flags;
+	ktime_t now;
+	s64 late;
+
+	spin_lock_irqsave(&sim->lock, flags);
+	now = ktime_get();
+	sim_xfer_return(sim, xfer, now);
+	late = ktime_to_ns(ktime_sub(now, end));
+	if (waited) {
+		st->wire_waits++;
+		st->wire_late_100us += late >= 100 * NSEC_PER_USEC;
+		st->wire_late_1ms += late >= NSEC_PER_MSEC;
+		st->wire_late_max_ns = max(st->wire_late_max_ns, late);
+	}
+	spin_unlock_irqrestore(&sim->lock, flags);
+}
+
 /* nack_at fires at the Nth transaction, and nack_run - 1 more after it */
 static bool sim_nack_armed(struct sentral_sim *sim)
 {
@@ -246,6 +272,7 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 	u64 bit_ns, wire_ns;
 	u32 khz;
 	ktime_t start = ktime_get(), now, end;
+	u64 xfer;
 	bool fire;
 	int i;
 
@@ -281,6 +308,8 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 	spin_lock_irqsave(&sim->lock, flags);
 	now = ktime_get();
 	sim_advance(sim, now);
+	sim_xfer_begin(sim, now);
+	xfer = sim->xfers;
 	khz = sim->bus_khz;
 	bit_ns = khz ? DIV_ROUND_CLOSEST(NSEC_PER_MSEC, khz) : SIM_BIT_NS;
 
@@ -295,9 +324,11 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 		sim->stats.bus_ns += wire_ns;
 		end = ktime_add_ns(start, khz ? wire_ns : 0);
 		sim->stats.last = ktime_after(end, ktime_get()) ? end : ktime_get();
+		sim_xfer_end(sim, sim->stats.last);
 		spin_unlock_irqrestore(&sim->lock, flags);
 		if (khz)
 			sim_wire_wait(end);
+		sim_returned(sim, xfer, end, khz);
 		return -ENXIO;
 	}
 
@@ -320,10 +351,12 @@ static int sim_xfer(struct i2c_adapter *adap, struct i2c_msg *msgs, int num)
 	/* the transaction ends when its stop is on the wire */
 	end = ktime_add_ns(start, khz ? wire_ns : 0);
 	sim->stats.last = ktime_after(end, ktime_get()) ? end : ktime_get();
+	sim_xfer_end(sim, sim->stats.last);
 	spin_unlock_irqrestore(&sim->lock, flags);
 
 	if (khz)
 		sim_wire_wait(end);
+	sim_returned(sim, xfer, end, khz);
 	if (fire)
 		sim_fire_irq(sim);
 	return num;

@@ -522,9 +522,185 @@ void sim_error(struct sentral_sim *sim, u8 code)
 		sim_event(sim, SIM_EV_ERROR);
 }
 
-/* held: the callback ran half a period or more after the sample was due */
+static struct sim_drop *sim_drop_entry(struct sentral_sim *sim, u64 n)
+{
+	return &sim->drop_log[n % SIM_DROP_LOG];
+}
+
+/*
+ * The cause of a sample lost after the host read a data-ready since it came
+ * (tests/sim/README.md), decided now that the next one replaces it or, when
+ * the host came back from that read in time and made no transaction since,
+ * by its next one. In time is before the next sample was due, when a real
+ * chip makes it: this timer may run late. The entry awaits the host's
+ * return from the read and its next transaction for their times.
+ */
+static void sim_drop_seen(struct sentral_sim *sim, struct sim_stream *st,
+			  ktime_t now, s64 late_ns, bool held)
+{
+	struct sim_drop *d = sim_drop_entry(sim, sim->drops_logged);
+	enum sim_drop_cause cause = SIM_DROP_PENDING;
+	ktime_t due = ktime_sub_ns(now, late_ns);
+
+	*d = (struct sim_drop){
+		.stream = st - sim->stream,
+		.next = st->next_kind,
+		.busy = st->seen_xfer - st->came_xfer - 1,
+		.seen_xfer = st->seen_xfer,
+		.period_ns = st->period_ns,
+		.came_late_ns = st->came_late_ns,
+		.inflight_ns = st->came_inflight_ns,
+		.latency_ns = ktime_to_ns(ktime_sub(st->seen_start, st->came)),
+		.wire_ns = ktime_to_ns(ktime_sub(st->seen_end, st->seen_start)),
+		.margin_ns = ktime_to_ns(ktime_sub(due, st->seen_end)),
+		.wake_ns = -1,
+		.gap_ns = -1,
+		.late_ns = late_ns,
+		.seen_end = st->seen_end,
+		.seen_ret = st->seen_ret,
+	};
+	if (st->seen_ret)
+		d->wake_ns = ktime_to_ns(ktime_sub(st->seen_ret, st->seen_end));
+	if (st->seen_ret && st->next_start)
+		d->gap_ns = ktime_to_ns(ktime_sub(st->next_start, st->seen_ret));
+
+	if (held)
+		cause = SIM_DROP_HELD;
+	else if (st->came_idle || st->seen_idle)
+		cause = SIM_DROP_IDLE;
+	else if (ktime_after(st->seen_end, due) ||
+		 st->came_late_ns >= st->period_ns / 2)
+		cause = SIM_DROP_LATE_IRQ;
+	else if (!st->seen_ret || ktime_after(st->seen_ret, due))
+		cause = SIM_DROP_LATE_WAKE;
+	else if (st->next_start)
+		cause = SIM_DROP_UNREAD;
+	d->cause = cause;
+	st->drops_cause[cause]++;
+	sim->drops_logged++;
+	st->pending = st->next_start ? 0 : sim->drops_logged;
+}
+
+/*
+ * A host that came back from the status read before the next sample was due
+ * and then read another register was not late: it did not read the data.
+ * If it read the data, whose the delay was: would the same time from its
+ * return to its burst have fitted before the due time had it come back at
+ * the read's end (then its late wake-up lost the sample), or had the read
+ * also come at once after the sample (then the late interrupt did)? If
+ * not, its own time did.
+ */
+static u8 sim_drop_late(const struct sim_drop *d, u8 kind)
+{
+	if (kind != SIM_XFER_BURST)
+		return SIM_DROP_UNREAD;
+	if (d->gap_ns < d->margin_ns)
+		return SIM_DROP_LATE_WAKE;
+	if (d->gap_ns < d->latency_ns + d->margin_ns)
+		return SIM_DROP_LATE_IRQ;
+	return SIM_DROP_SLOW;
+}
+
+/* A transaction of the host begins at @start (sim_xfer_end() after it) */
+void sim_xfer_begin(struct sentral_sim *sim, ktime_t start)
+{
+	struct sim_stats *stats = &sim->stats;
+
+	if (sim->drdy_ret) {
+		s64 gap = ktime_to_ns(ktime_sub(start, sim->drdy_ret));
+
+		stats->host_gaps++;
+		stats->host_gap_100us += gap >= 100 * NSEC_PER_USEC;
+		stats->host_gap_max_ns = max(stats->host_gap_max_ns, gap);
+		sim->drdy_ret = 0;
+	}
+	sim->xfers++;
+	sim->xfer_start = start;
+	sim->xfer_reads = 0;
+	sim->xfer_status = false;
+	sim->xfer_drdy = false;
+}
+
+/*
+ * The transaction that began at sim_xfer_begin() ends at @end on the wire:
+ * it completes a drop's entry, its cause if pending, is the next
+ * transaction after a status read that saw a sample, or is that read.
+ */
+void sim_xfer_end(struct sentral_sim *sim, ktime_t end)
+{
+	int id;
+
+	for (id = 0; id < SIM_NSTREAMS; id++) {
+		struct sim_stream *st = &sim->stream[id];
+		u8 kind = SIM_XFER_OTHER;
+
+		if (sim->xfer_reads & BIT(id))
+			kind = SIM_XFER_BURST;
+		else if (sim->xfer_status)
+			kind = SIM_XFER_STATUS;
+
+		if (st->pending) {
+			struct sim_drop *d = sim_drop_entry(sim,
+							    st->pending - 1);
+
+			d->next = kind;
+			if (d->seen_ret)
+				d->gap_ns = ktime_to_ns(ktime_sub(sim->xfer_start,
+								  d->seen_ret));
+			if (d->cause == SIM_DROP_PENDING) {
+				d->cause = sim_drop_late(d, kind);
+				st->drops_cause[SIM_DROP_PENDING]--;
+				st->drops_cause[d->cause]++;
+			}
+			st->pending = 0;
+		}
+		if (st->seen_start && !st->next_start &&
+		    st->seen_xfer != sim->xfers) {
+			st->next_start = sim->xfer_start;
+			st->next_kind = kind;
+		}
+		if (sim->xfer_drdy && st->unread && !st->seen_start) {
+			st->seen_start = sim->xfer_start;
+			st->seen_end = end;
+			st->seen_ret = 0;
+			st->seen_xfer = sim->xfers;
+			st->seen_idle = !(sim->regs[SIM_REG_ENABLE_EVENTS] &
+					  SIM_EV_DATA);
+		}
+	}
+	sim->xfer_last_end = end;
+}
+
+/* The host is back from transaction @xfer, the last one, at @now */
+void sim_xfer_return(struct sentral_sim *sim, u64 xfer, ktime_t now)
+{
+	int id;
+
+	if (sim->xfer_drdy)
+		sim->drdy_ret = now;
+
+	for (id = 0; id < SIM_NSTREAMS; id++) {
+		struct sim_stream *st = &sim->stream[id];
+		struct sim_drop *d;
+
+		if (st->seen_xfer == xfer && !st->seen_ret)
+			st->seen_ret = now;
+		if (!st->pending)
+			continue;
+		d = sim_drop_entry(sim, st->pending - 1);
+		if (d->seen_xfer == xfer && !d->seen_ret) {
+			d->seen_ret = now;
+			d->wake_ns = ktime_to_ns(ktime_sub(now, d->seen_end));
+		}
+	}
+}
+
+/*
+ * held: the callback ran half a period or more after the sample was due,
+ * late_ns behind it
+ */
 static void sim_produce(struct sentral_sim *sim, enum sim_stream_id id,
-			bool held)
+			ktime_t now, s64 late_ns, bool held)
 {
 	struct sim_stream *st = &sim->stream[id];
 	u8 base = sim_stream_base[id];
@@ -562,13 +738,22 @@ static void sim_produce(struct sentral_sim *sim, enum sim_stream_id id,
 		 */
 		if (st->read_seq && sim->drdy_seen != st->drdy_mark) {
 			st->drops_seen++;
-			if (held)
-				st->drops_seen_held++;
+			sim_drop_seen(sim, st, now, late_ns, held);
 		} else if (st->read_seq) {
 			st->drops_unseen++;
 		}
 	}
 	st->drdy_mark = sim->drdy_seen;
+	st->came = now;
+	st->came_xfer = sim->xfers;
+	st->came_late_ns = late_ns;
+	st->came_idle = !(sim->regs[SIM_REG_ENABLE_EVENTS] & SIM_EV_DATA);
+	/* what remains of a transaction on the wire when the sample came */
+	st->came_inflight_ns = max_t(s64, 0,
+				     ktime_to_ns(ktime_sub(sim->xfer_last_end,
+							   now)));
+	st->seen_start = 0;
+	st->next_start = 0;
 	st->unread = true;
 	st->produced++;
 	sim_event(sim, sim_stream_event[id]);
@@ -580,17 +765,19 @@ static ktime_t sim_stream_tick(struct sentral_sim *sim, enum sim_stream_id id,
 {
 	struct sim_stream *st = &sim->stream[id];
 	ktime_t due = sim_stream_due(sim, st);
+	s64 late_ns;
 	bool held;
 
 	if (ktime_after(due, now))
 		return due;
 
-	held = ktime_to_ns(ktime_sub(now, due)) >= st->period_ns / 2;
-	sim_produce(sim, id, held);
+	late_ns = ktime_to_ns(ktime_sub(now, due));
+	held = late_ns >= st->period_ns / 2;
+	sim_produce(sim, id, now, late_ns, held);
 	if (id == SIM_GYRO &&
 	    ++sim->quat_phase > sim->regs[SIM_REG_QRATE_DIVISOR]) {
 		sim->quat_phase = 0;
-		sim_produce(sim, SIM_QUAT, held);
+		sim_produce(sim, SIM_QUAT, now, late_ns, held);
 	}
 
 	st->tick++;
@@ -794,6 +981,7 @@ static void sim_mark_read(struct sentral_sim *sim, u8 reg)
 		st = &sim->stream[SIM_ACCEL];
 	else
 		st = &sim->stream[SIM_GYRO];
+	sim->xfer_reads |= BIT(st - sim->stream);
 	if (st->unread) {
 		st->unread = false;
 		st->read++;
@@ -834,9 +1022,11 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 			return v;
 		sim->event_status = 0;	/* clear-on-read, §1 */
 		sim->int_latched = false;
-		if (v & (SIM_EV_QUATERNION | SIM_EV_MAG | SIM_EV_ACCEL |
-			 SIM_EV_GYRO))
+		sim->xfer_status = true;
+		if (v & SIM_EV_DATA) {
 			sim->drdy_seen++;
+			sim->xfer_drdy = true;
+		}
 		return v;
 	case SIM_REG_SENTRAL_STATUS:
 		if (sim->usfs.no_eeprom)

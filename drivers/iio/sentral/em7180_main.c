@@ -1074,9 +1074,19 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 		/* No scan comes any more: transfers waiting for one go ahead */
 		else
 			wake_up_all(&data->wq);
-		ret = em7180_feature_report(data) ?:
-		      regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
-				   EM7180_EVENT_ALWAYS | data->pace_event);
+		ret = em7180_feature_report(data);
+		/*
+		 * A pending event keeps INT high: no edge would ever come. Read
+		 * before the data event is enabled: a sample that comes after
+		 * the read raises INT and is scanned, not cleared unread.
+		 */
+		if (!ret && state) {
+			ret = em7180_read_events(data, &status);
+			if (!ret && (status & EM7180_EVENT_CPU_RESET))
+				ret = em7180_chip_recover(data);
+		}
+		ret = ret ?: regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
+					  EM7180_EVENT_ALWAYS | data->pace_event);
 		/*
 		 * Data interrupts left on, with no scan paced, would each be
 		 * unhandled, and the kernel disables a line after 100,000 of
@@ -1085,12 +1095,6 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 		if (ret && !state)
 			ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
 					   EM7180_EVENT_ALWAYS);
-		/* A pending event keeps INT high: no edge would ever come */
-		if (!ret && state) {
-			ret = em7180_read_events(data, &status);
-			if (!ret && (status & EM7180_EVENT_CPU_RESET))
-				ret = em7180_chip_recover(data);
-		}
 	}
 
 	/*
