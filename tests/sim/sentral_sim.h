@@ -137,7 +137,8 @@ enum sim_xfer_kind {
 };
 
 /*
- * One such loss and its evidence, in a ring per chip (debugfs drops). The
+ * One such loss and its evidence, in a ring per chip (debugfs drops), and
+ * those of the host driver's causes in another (drops_host). The
  * status read is the first that reported a data-ready since the sample
  * came; the host "comes back" from it when the transfer returns to the
  * caller (the wire time modelled, the caller sleeps until its end).
@@ -272,6 +273,9 @@ struct sentral_sim {
 	ktime_t drdy_ret;	/* the host back from such a read; 0: used */
 	struct sim_drop drop_log[SIM_DROP_LOG];
 	u64 drops_logged;
+	/* the host driver's drops apart, kept from the harness's many */
+	struct sim_drop host_log[SIM_DROP_LOG];
+	u64 host_logged;
 	u32 noise_state;
 
 	/* Sample production */

@@ -693,15 +693,14 @@ static void samples_show(struct seq_file *m, struct sentral_sim *sim,
 	seq_printf(m, "timer_late %llu\n", sim->timer_late);
 }
 
-/* The last SIM_DROP_LOG drops a host saw coming, oldest first */
-static void drops_show(struct seq_file *m, struct sentral_sim *sim,
-		       ktime_t now)
+/* The last SIM_DROP_LOG of @n drops logged in @log, oldest first */
+static void drop_log_show(struct seq_file *m, const struct sim_drop *log,
+			  u64 n)
 {
-	u64 n = sim->drops_logged;
 	u64 i = n > SIM_DROP_LOG ? n - SIM_DROP_LOG : 0;
 
 	for (; i < n; i++) {
-		const struct sim_drop *d = &sim->drop_log[i % SIM_DROP_LOG];
+		const struct sim_drop *d = &log[i % SIM_DROP_LOG];
 
 		seq_printf(m, "%s %s period_us %llu came_late_us %lld inflight_us %lld busy %u latency_us %lld wire_us %lld margin_us %lld wake_us %lld gap_us %lld next %s late_us %lld\n",
 			   sim_stream_names[d->stream],
@@ -716,6 +715,18 @@ static void drops_show(struct seq_file *m, struct sentral_sim *sim,
 			   d->gap_ns < 0 ? -1 : sim_ns_to_us(d->gap_ns),
 			   sim_xfer_kinds[d->next], sim_ns_to_us(d->late_ns));
 	}
+}
+
+static void drops_show(struct seq_file *m, struct sentral_sim *sim,
+		       ktime_t now)
+{
+	drop_log_show(m, sim->drop_log, sim->drops_logged);
+}
+
+static void drops_host_show(struct seq_file *m, struct sentral_sim *sim,
+			    ktime_t now)
+{
+	drop_log_show(m, sim->host_log, sim->host_logged);
 }
 
 static int samples_store(struct sentral_sim *sim, char *buf, ktime_t now)
@@ -743,6 +754,7 @@ static int samples_store(struct sentral_sim *sim, char *buf, ktime_t now)
 	}
 	sim->timer_late = 0;
 	sim->drops_logged = 0;
+	sim->host_logged = 0;
 	return 0;
 }
 
@@ -837,6 +849,7 @@ static const struct sim_knob sim_knobs[] = {
 	{ "stats", 0600, stats_show, stats_store },
 	{ "samples", 0600, samples_show, samples_store },
 	{ "drops", 0400, drops_show, NULL },
+	{ "drops_host", 0400, drops_host_show, NULL },
 	{ "params", 0400, params_show, NULL },
 	{ "regs", 0400, regs_show, NULL },
 	{ "state", 0400, state_show, NULL },

@@ -527,6 +527,13 @@ static struct sim_drop *sim_drop_entry(struct sentral_sim *sim, u64 n)
 	return &sim->drop_log[n % SIM_DROP_LOG];
 }
 
+/* A drop's cause is known: keep the host driver's apart (debugfs drops_host) */
+static void sim_drop_decided(struct sentral_sim *sim, const struct sim_drop *d)
+{
+	if (d->cause == SIM_DROP_SLOW || d->cause == SIM_DROP_UNREAD)
+		sim->host_log[sim->host_logged++ % SIM_DROP_LOG] = *d;
+}
+
 /*
  * The cause of a sample lost after the host read a data-ready since it came
  * (tests/sim/README.md), decided now that the next one replaces it or, when
@@ -578,6 +585,8 @@ static void sim_drop_seen(struct sentral_sim *sim, struct sim_stream *st,
 	d->cause = cause;
 	st->drops_cause[cause]++;
 	sim->drops_logged++;
+	if (cause != SIM_DROP_PENDING)
+		sim_drop_decided(sim, d);
 	st->pending = st->next_start ? 0 : sim->drops_logged;
 }
 
@@ -651,6 +660,7 @@ void sim_xfer_end(struct sentral_sim *sim, ktime_t end)
 				d->cause = sim_drop_late(d, kind);
 				st->drops_cause[SIM_DROP_PENDING]--;
 				st->drops_cause[d->cause]++;
+				sim_drop_decided(sim, d);
 			}
 			st->pending = 0;
 		}
