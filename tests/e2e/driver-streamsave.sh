@@ -29,9 +29,9 @@ samples() {
 
 # capture TRIGGER OUT: stream quaternion, accel, gyro and timestamps through
 # TRIGGER while SAVES saves run 0.5 s apart; the simulator's transfer
-# times go to OUT.xfers, one "start end late" line per save (µs; late: its
-# data timer's late callbacks from before the save to 0.5 s after it,
-# whole periods in which the machine did not run it).
+# times go to OUT.xfers, one "start end late" line per save (µs; late: the
+# most its data timer ran behind a sample's due time from before the save
+# to 0.5 s after it, how long the machine did not run it).
 capture() {
 	local trig=$1 out=$2 i pid
 	iio_readdev -t "$trig" -b 8 -s 0 em7180 rot_quaternion accel_x accel_y \
@@ -42,13 +42,13 @@ capture() {
 	: >"$out.xfers"
 	failed=0
 	for i in $(seq $SAVES); do
-		late=$(dbg_get samples timer_late)
+		knob stats 0
 		if dd if="$DEV/calibration_data" of="$out.ws$i" bs=4096 \
 			status=none 2>"$out.err$i"; then
 			sleep 0.5
 			echo "$(dbg_get state transfer_started_us)" \
 				"$(dbg_get state transfer_ended_us)" \
-				$(($(dbg_get samples timer_late) - late)) >>"$out.xfers"
+				"$(dbg_get stats timer_late_max_us)" >>"$out.xfers"
 		else
 			failed=$((failed + 1))
 			sleep 0.5
@@ -61,9 +61,9 @@ capture() {
 
 # check_stream FILE XFERS PERIOD_US SLACK_US: the scans against the pauses;
 # prints "ok: ..." or the first problem. Where the simulator's data timer
-# itself ran whole periods late around a pause (UML stalled under load, as
-# make bench counts harness drops), each such period widens that pause's
-# slack by one: said, with that evidence. No scan inside a pause and the
+# itself ran late around a pause (UML stalled under load, as make bench
+# counts harness drops), the time it was held up widens that pause's slack:
+# said, with that evidence. No scan inside a pause and the
 # stream going on after it hold for every pause.
 check_stream() {
 	python3 - "$@" <<'PYEOF'
@@ -91,10 +91,10 @@ for line in open(xfers):
         sys.exit("the pause %d..%d us is not inside the stream" % (s, e))
     gap = after[0] - before[-1]
     if gap > (e - s) + 2 * period + slack:
-        if gap > (e - s) + 2 * period + slack + late * period:
+        if gap > (e - s) + 2 * period + slack + late:
             sys.exit("gap of %d us around a %d us pause: the stream did not resume at once"
-                     " (the data timer %d periods late meanwhile)" % (gap, e - s, late))
-        stalled.append("%d us around a %d us pause (data timer %d periods late)"
+                     " (the data timer at most %d us late meanwhile)" % (gap, e - s, late))
+        stalled.append("%d us around a %d us pause (data timer up to %d us late)"
                        % (gap, e - s, late))
         continue
     worst = max(worst, gap - (e - s))
@@ -108,10 +108,13 @@ PYEOF
 # --- The chip's own trigger ---------------------------------------------
 is "default trigger" "$(cat "$DEV/trigger/current_trigger")" "em7180-dev$N"
 # The driver's drops: samples lost although it had read their data event,
-# less those a simulator timer running half a period late replaced (the
-# whole machine stalled in between: UML under load), as make bench counts.
+# of the causes the simulator gives the host driver, as make bench counts
+# (tests/sim/README.md, "Whose loss a sample is": the others are the
+# machine's, such as a thread that woke late from its wire-time sleep).
 driver_drops() {
-	echo $(($(samples quaternion drops_seen) - $(samples quaternion drops_seen_held)))
+	echo $(($(samples quaternion drops_seen_slow) +
+		$(samples quaternion drops_seen_unread) +
+		$(samples quaternion drops_seen_pending)))
 }
 d0=$(driver_drops)
 capture "em7180-dev$N" "$TMP/own.bin"
@@ -127,8 +130,8 @@ like "one honest gap per save, the stream resumed at once" "$out" '^ok: '
 grep '^# ' <<<"$out"
 drops=$(driver_drops)
 is "no sample the driver saw and did not read" "$drops" "$d0"
-[ "$drops" = "$d0" ] ||
-	sed -n 's/^quaternion_/#   /p; s/^timer_late/#   &/p' "$SIM_DBG/samples"
+sed -n 's/^quaternion_drops/# drops/p' "$SIM_DBG/samples"
+sed 's/^/# drop: /' "$SIM_DBG/drops"
 is "the chip is out of transfer mode" "$(dbg_get state transfer)" 0
 is "and running" "$(dbg_get state running)" 1
 

@@ -221,6 +221,8 @@ struct sim_stats {
 	u64 host_gaps;
 	u64 host_gap_100us;
 	s64 host_gap_max_ns;
+	/* the data timer: how far behind a sample's due time it ran, at most */
+	s64 timer_late_max_ns;
 	ktime_t first;
 	ktime_t last;
 };

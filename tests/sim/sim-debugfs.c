@@ -658,6 +658,8 @@ static void stats_show(struct seq_file *m, struct sentral_sim *sim,
 	seq_printf(m, "host_gap_100us %llu\n", st->host_gap_100us);
 	seq_printf(m, "host_gap_max_us %lld\n",
 		   sim_ns_to_us(st->host_gap_max_ns));
+	seq_printf(m, "timer_late_max_us %lld\n",
+		   sim_ns_to_us(st->timer_late_max_ns));
 }
 
 static int stats_store(struct sentral_sim *sim, char *buf, ktime_t now)

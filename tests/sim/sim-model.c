@@ -782,6 +782,8 @@ static ktime_t sim_stream_tick(struct sentral_sim *sim, enum sim_stream_id id,
 		return due;
 
 	late_ns = ktime_to_ns(ktime_sub(now, due));
+	sim->stats.timer_late_max_ns = max(sim->stats.timer_late_max_ns,
+					   late_ns);
 	held = late_ns >= st->period_ns / 2;
 	sim_produce(sim, id, now, late_ns, held);
 	if (id == SIM_GYRO &&
