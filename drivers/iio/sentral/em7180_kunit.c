@@ -521,6 +521,24 @@ static void em7180_test_param_latency(struct kunit *test)
 	KUNIT_EXPECT_GT(test, t->data->ack_min_us, 0U);
 }
 
+/*
+ * The least wait an early poll teaches is the wait the driver asked for,
+ * raised by 1/8, not the time that poll took: what a sleep overran by
+ * would otherwise be added to every later parameter.
+ */
+static void em7180_test_param_ack_least(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u32 val;
+
+	emu->ack_latency_us = 5000;
+	t->data->ack_wait_us = 400;
+	KUNIT_ASSERT_EQ(test, test_params_read(t, 3, 1, &val), 0);
+	KUNIT_EXPECT_EQ(test, t->data->ack_min_us, 400U + 400U / 8);
+	KUNIT_EXPECT_GE(test, t->data->ack_wait_us, 5000U - 5000U / 8);
+}
+
 static void em7180_test_param_slow_ack(struct kunit *test)
 {
 	struct em7180_test *t = test->priv;
@@ -1785,6 +1803,7 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_stale_ack),
 	KUNIT_CASE(em7180_test_param_unknown_ack),
 	KUNIT_CASE(em7180_test_param_latency),
+	KUNIT_CASE(em7180_test_param_ack_least),
 	KUNIT_CASE(em7180_test_param_slow_ack),
 	KUNIT_CASE(em7180_test_param_timeout),
 	KUNIT_CASE(em7180_test_param_nack),

@@ -186,15 +186,18 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
  * Poll ParamAcknowledge (@len bytes: 5 take SavedParam along) until it
  * echoes @req. No public source gives the latency, and EM's driver allows
  * 1 s: it is learned, so that a steady firmware costs one poll per
- * parameter. The first poll waits the latency learned so far; an early one
- * is followed by others at 1/8 of the time spent, and sets the wait; one in
- * time shrinks it by 1/8, not below the shortest latency seen, so that a
- * slow moment is not kept.
+ * parameter. The first poll waits the time learned so far; one in time
+ * shrinks it by 1/8, never to a first wait found too short. After an
+ * early one, polls follow at 1/8 of the time spent; that first wait
+ * raised by 1/8 becomes the least, and the time it took the next wait.
+ * The least is a requested wait, not a time measured after a sleep: a
+ * sleep's own overrun is then not added to every later parameter.
  */
 static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 			    size_t len)
 {
-	unsigned int wait = data->ack_wait_us ?: EM7180_ACK_WAIT_INIT_US;
+	unsigned int first = data->ack_wait_us ?: EM7180_ACK_WAIT_INIT_US;
+	unsigned int wait = first;
 	ktime_t start = ktime_get();
 	unsigned int took;
 	bool early = false;
@@ -218,11 +221,12 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 	}
 
 	if (early) {
-		data->ack_wait_us = min(took, EM7180_ACK_WAIT_MAX_US);
-		data->ack_min_us = min_not_zero(data->ack_min_us,
-						data->ack_wait_us);
+		data->ack_min_us = min(max(data->ack_min_us, first + first / 8),
+				       EM7180_ACK_WAIT_MAX_US);
+		data->ack_wait_us = clamp(took, data->ack_min_us,
+					  EM7180_ACK_WAIT_MAX_US);
 	} else {
-		data->ack_wait_us = max(wait - wait / 8, data->ack_min_us);
+		data->ack_wait_us = max(first - first / 8, data->ack_min_us);
 	}
 	return 0;
 }
