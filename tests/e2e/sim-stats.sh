@@ -27,7 +27,8 @@ wire_late_1ms 0
 wire_late_max_us 0
 host_gaps 0
 host_gap_100us 0
-host_gap_max_us 0"
+host_gap_max_us 0
+timer_late_max_us 0"
 
 sim_rd 0x90 2 >/dev/null
 is "w1 + r2: 1 transaction" "$(dbg_get stats transactions)" 1
