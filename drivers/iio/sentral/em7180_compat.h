@@ -200,6 +200,11 @@ static inline void kunit_device_unregister(struct kunit *test,
 {
 	kunit_destroy_resource(test, em7180_kunit_device_match, dev);
 }
+
+/* KUNIT_CASE_SLOW came a release or two before 6.8: tested by name */
+#ifndef KUNIT_CASE_SLOW
+#define KUNIT_CASE_SLOW(test_name)	KUNIT_CASE(test_name)
+#endif
 #endif
 
 #endif /* _EM7180_COMPAT_H_ */
