@@ -157,15 +157,54 @@ static inline bool enable_delayed_work(struct delayed_work *dwork)
 #endif
 
 /*
- * 6.1 runs the KUnit suites of a module while it is still coming, before
- * its sysfs directory exists (6.12 runs them once it is live): a root
- * device registered by the suite then cannot link to its module.
+ * KUnit-managed devices came in 6.8: before, a root device that a KUnit
+ * resource unregisters when the case ends. It names no module: 6.1 runs
+ * the KUnit suites of a module while it is still coming, before the sysfs
+ * directory such a link would point to exists.
  */
-#if KERNEL_VERSION(6, 12, 0) > LINUX_VERSION_CODE
+#if KERNEL_VERSION(6, 8, 0) <= LINUX_VERSION_CODE
+#include <kunit/device.h>
+#else
+#include <kunit/resource.h>
 #include <linux/device.h>
 
-#undef root_device_register
-#define root_device_register(name)	__root_device_register(name, NULL)
+static inline void em7180_kunit_device_free(struct kunit_resource *res)
+{
+	root_device_unregister(res->data);
+}
+
+static inline struct device *kunit_device_register(struct kunit *test,
+						   const char *name)
+{
+	struct device *dev = __root_device_register(name, NULL);
+
+	if (IS_ERR(dev))
+		return dev;
+	if (!kunit_alloc_resource(test, NULL, em7180_kunit_device_free,
+				  GFP_KERNEL, dev)) {
+		root_device_unregister(dev);
+		return ERR_PTR(-ENOMEM);
+	}
+	return dev;
+}
+
+static inline bool em7180_kunit_device_match(struct kunit *test,
+					     struct kunit_resource *res,
+					     void *dev)
+{
+	return res->free == em7180_kunit_device_free && res->data == dev;
+}
+
+static inline void kunit_device_unregister(struct kunit *test,
+					   struct device *dev)
+{
+	kunit_destroy_resource(test, em7180_kunit_device_match, dev);
+}
+
+/* KUNIT_CASE_SLOW came a release or two before 6.8: tested by name */
+#ifndef KUNIT_CASE_SLOW
+#define KUNIT_CASE_SLOW(test_name)	KUNIT_CASE(test_name)
+#endif
 #endif
 
 #endif /* _EM7180_COMPAT_H_ */

@@ -239,23 +239,19 @@ static int em7180_test_init(struct kunit *test)
 	t = kunit_kzalloc(test, sizeof(*t), GFP_KERNEL);
 	KUNIT_ASSERT_NOT_NULL(test, t);
 
-	t->dev = root_device_register("em7180-kunit");
-	KUNIT_ASSERT_FALSE(test, IS_ERR(t->dev));
+	/*
+	 * KUnit unregisters the device after the case's exit and after the
+	 * devices the case registers: the regmap and the driver's state that
+	 * hang on it outlive theirs.
+	 */
+	t->dev = kunit_device_register(test, "em7180-kunit");
+	KUNIT_ASSERT_NOT_ERR_OR_NULL(test, t->dev);
 
-	map = regmap_init(t->dev, &emu_bus, &t->emu, &em7180_regmap_config);
-	if (IS_ERR(map)) {
-		root_device_unregister(t->dev);
-		KUNIT_FAIL(test, "regmap_init: %ld", PTR_ERR(map));
-		return PTR_ERR(map);
-	}
+	map = devm_regmap_init(t->dev, &emu_bus, &t->emu, &em7180_regmap_config);
+	KUNIT_ASSERT_NOT_ERR_OR_NULL(test, map);
 	/* The driver's state in an unregistered IIO device, as probe has it */
-	t->indio_dev = iio_device_alloc(t->dev, sizeof(*t->data));
-	if (!t->indio_dev) {
-		regmap_exit(map);
-		root_device_unregister(t->dev);
-		KUNIT_FAIL(test, "iio_device_alloc failed");
-		return -ENOMEM;
-	}
+	t->indio_dev = devm_iio_device_alloc(t->dev, sizeof(*t->data));
+	KUNIT_ASSERT_NOT_NULL(test, t->indio_dev);
 	t->data = iio_priv(t->indio_dev);
 	dev_set_drvdata(t->dev, t->indio_dev);
 
@@ -277,14 +273,11 @@ static void em7180_test_exit(struct kunit *test)
 {
 	struct em7180_test *t = test->priv;
 
-	/* init failed before it set up anything */
+	/* init stopped at an assertion: KUnit frees what it made */
 	if (!t)
 		return;
 
 	cancel_delayed_work_sync(&t->data->recover_work);
-	regmap_exit(t->data->regmap);
-	iio_device_free(t->indio_dev);
-	root_device_unregister(t->dev);
 }
 
 static void expect_xfer(struct kunit *test, const struct em7180_emu *emu,
@@ -938,7 +931,7 @@ static void em7180_test_warmstart_fuzz(struct kunit *test)
 	KUNIT_ASSERT_NOT_NULL(test, buf);
 
 	/* An unregistered IIO device around the emulated chip's regmap */
-	indio_dev = iio_device_alloc(t->dev, sizeof(*data));
+	indio_dev = devm_iio_device_alloc(t->dev, sizeof(*data));
 	KUNIT_ASSERT_NOT_NULL(test, indio_dev);
 	data = iio_priv(indio_dev);
 	data->dev = t->dev;
@@ -1023,8 +1016,6 @@ static void em7180_test_warmstart_fuzz(struct kunit *test)
 	for (i = 0; i < WS_FUZZ_KINDS; i++)
 		KUNIT_EXPECT_GE_MSG(test, kinds[i], WS_FUZZ_ROUNDS / 8,
 				    "kind %u", i);
-
-	iio_device_free(indio_dev);
 }
 
 /* Configuration as probe leaves it, through the register cache */
@@ -1270,19 +1261,12 @@ static void em7180_test_recover_teardown(struct kunit *test)
 	struct em7180_emu *emu = &t->emu;
 	struct device *dev;
 	unsigned int seen;
-	int ret;
 
-	dev = root_device_register("em7180-kunit-health");
-	KUNIT_ASSERT_FALSE(test, IS_ERR(dev));
+	dev = kunit_device_register(test, "em7180-kunit-health");
+	KUNIT_ASSERT_NOT_ERR_OR_NULL(test, dev);
 	dev_set_drvdata(dev, t->indio_dev);
 	data->dev = dev;
-	ret = em7180_health_init(data);
-	if (ret) {
-		root_device_unregister(dev);
-		data->dev = t->dev;
-		KUNIT_FAIL(test, "em7180_health_init: %d", ret);
-		return;
-	}
+	KUNIT_ASSERT_EQ(test, em7180_health_init(data), 0);
 
 	test_configure(test, t);
 	test_power_loss(emu);
@@ -1291,7 +1275,7 @@ static void em7180_test_recover_teardown(struct kunit *test)
 		em7180_recover_schedule(data);
 
 	/* Runs the device's devm actions, as unbind does */
-	root_device_unregister(dev);
+	kunit_device_unregister(test, dev);
 	data->dev = t->dev;
 	seen = emu->transactions;
 	KUNIT_EXPECT_GE(test, data->resets, 1U);
@@ -1320,15 +1304,11 @@ static void em7180_test_recover_suspend(struct kunit *test)
 		kunit_skip(test, "no system sleep in this kernel");
 
 	test_configure(test, t);
-	dev = root_device_register("em7180-kunit-pm");
-	KUNIT_ASSERT_FALSE(test, IS_ERR(dev));
+	dev = kunit_device_register(test, "em7180-kunit-pm");
+	KUNIT_ASSERT_NOT_ERR_OR_NULL(test, dev);
 	/* The driver's state in an IIO device, as probe leaves it */
-	indio_dev = iio_device_alloc(dev, sizeof(*data));
-	if (!indio_dev) {
-		root_device_unregister(dev);
-		KUNIT_FAIL(test, "iio_device_alloc failed");
-		return;
-	}
+	indio_dev = devm_iio_device_alloc(dev, sizeof(*data));
+	KUNIT_ASSERT_NOT_NULL(test, indio_dev);
 	data = iio_priv(indio_dev);
 	data->dev = dev;
 	data->regmap = t->data->regmap;
@@ -1365,9 +1345,6 @@ static void em7180_test_recover_suspend(struct kunit *test)
 	scoped_guard(mutex, &data->lock)
 		em7180_recover_schedule(data);
 	KUNIT_EXPECT_TRUE(test, delayed_work_pending(&data->recover_work));
-
-	root_device_unregister(dev);
-	iio_device_free(indio_dev);
 }
 
 /* calibbias reads never reach the bus, and fail while the copy is unknown */
@@ -1797,7 +1774,7 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_upload_sequence),
 	KUNIT_CASE(em7180_test_upload_errors),
 	KUNIT_CASE(em7180_test_passthru_sequence),
-	KUNIT_CASE(em7180_test_passthru_recover),
+	KUNIT_CASE_SLOW(em7180_test_passthru_recover),
 	KUNIT_CASE(em7180_test_param_write_sequence),
 	KUNIT_CASE(em7180_test_param_batch),
 	KUNIT_CASE(em7180_test_param_stale_ack),
@@ -1805,7 +1782,7 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_latency),
 	KUNIT_CASE(em7180_test_param_ack_least),
 	KUNIT_CASE(em7180_test_param_slow_ack),
-	KUNIT_CASE(em7180_test_param_timeout),
+	KUNIT_CASE_SLOW(em7180_test_param_timeout),
 	KUNIT_CASE(em7180_test_param_nack),
 	KUNIT_CASE(em7180_test_param_autoinc_read),
 	KUNIT_CASE(em7180_test_param_autoinc_write),
@@ -1817,9 +1794,9 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_pm_nonfinite_keeps_ws),
 	KUNIT_CASE(em7180_test_ws_read_nonfinite),
 	KUNIT_CASE(em7180_test_pm_live_calibration),
-	KUNIT_CASE(em7180_test_pm_offsets_without_ws),
+	KUNIT_CASE_SLOW(em7180_test_pm_offsets_without_ws),
 	KUNIT_CASE(em7180_test_pm_restore_order),
-	KUNIT_CASE(em7180_test_pm_standby_stuck),
+	KUNIT_CASE_SLOW(em7180_test_pm_standby_stuck),
 	KUNIT_CASE(em7180_test_pm_firmware_changed),
 	KUNIT_CASE(em7180_test_recover_teardown),
 	KUNIT_CASE(em7180_test_recover_suspend),
@@ -1827,7 +1804,7 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_warmstart_fuzz),
 	KUNIT_CASE(em7180_test_caldata_apply),
 	KUNIT_CASE(em7180_test_caldata_refused),
-	KUNIT_CASE(em7180_test_caldata_fails),
+	KUNIT_CASE_SLOW(em7180_test_caldata_fails),
 	{ }
 };
 
