@@ -212,8 +212,12 @@ ok "a third sample" wait_for 2 mag_at_least 3
 ok "read it" sim_rd 0x12 8
 ok "stop" sim_wr 0x34 0x00
 is "the second was lost seen" "$(dbg_get samples mag_drops_seen)" 1
-is "it came before the host streamed: idle" \
-	"$(dbg_get samples mag_drops_seen_idle)" 1
+# (or held: the machine stalled the timer that made the next one)
+idle=$(dbg_get samples mag_drops_seen_idle)
+held=$(dbg_get samples mag_drops_seen_held)
+is "it came before the host streamed: idle ($idle, held $held)" \
+	$((idle + held)) 1
+[ $((idle + held)) = 1 ] || sed 's/^/#   /' "$SIM_DBG/drops"
 
 # A host that came back from the status read in time and read the data a
 # period after the next sample, later than an interrupt served and a thread
