@@ -166,12 +166,15 @@ gap=$(check_scans "$TMP/stream.bin" 300 2>&1)
 ok "300 well-formed scans, timestamps increasing" test "$gap" -ge 0
 echo "# longest gap between scans: $gap ms; $(($(dbg_get state irqs) - irqs)) data-ready interrupts"
 # The chip makes no sample in passthrough (its algorithm in standby): no
-# scan is lost beyond that pause, none whose data-ready the driver saw
-# (the simulator's drops_seen, less those a late timer of the machine made)
-seen=$(dbg_get samples accel_drops_seen)
-held=$(dbg_get samples accel_drops_seen_held)
+# scan is lost beyond that pause, none whose data-ready the driver saw and
+# lost by its own cause (the simulator's slow, unread and pending, as make
+# bench counts: the others are the machine's, tests/sim/README.md)
+drops=$(($(dbg_get samples accel_drops_seen_slow) +
+	$(dbg_get samples accel_drops_seen_unread) +
+	$(dbg_get samples accel_drops_seen_pending)))
 echo "# samples: $(grep '^accel' "$SIM_DBG/samples" | tr '\n' ' ')"
-is "no sample the driver saw and did not read" $((seen - held)) 0
+is "no sample the driver saw and did not read" "$drops" 0
+[ "$drops" = 0 ] || sed 's/^/#   /' "$SIM_DBG/drops_host"
 ok "the dump is the EEPROM" cmp "$TMP/dump" "$TMP/backup"
 is "the calibration is still stable" "$(cat "$DEV/in_magn_calibration_auto_status")" 4
 is "with its score" "$(dbg_get state score_raw)" "$score"
