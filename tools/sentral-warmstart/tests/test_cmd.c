@@ -2396,6 +2396,33 @@ static void test_caldata_on_save(void **state)
 }
 
 /*
+ * calibration_data's header: format 1, ProductID, RevisionID, 0, ROM and
+ * RAM versions little-endian, then the payload; another format or a
+ * reserved byte set is no blob this tool knows.
+ */
+static void test_caldata_header(void **state)
+{
+	static const uint8_t hdr[SW_CALDATA_HDR_SIZE] = {
+		1, 0x80, 0x02, 0, 0xe6, 0x09, 0x05, 0x0c,
+	};
+	struct ctx *c = *state;
+	uint8_t blob[SW_CALDATA_SIZE], payload[SW_BLOB_SIZE];
+	struct sw_chip_info chip;
+
+	sw_caldata_encode(&c->fb.chip, c->fb.blob, blob);
+	assert_memory_equal(blob, hdr, sizeof(hdr));
+	assert_memory_equal(&blob[SW_CALDATA_HDR_SIZE], c->fb.blob, SW_BLOB_SIZE);
+	assert_true(sw_caldata_decode(blob, &chip, payload));
+	assert_memory_equal(&chip, &c->fb.chip, sizeof(chip));
+	assert_memory_equal(payload, c->fb.blob, SW_BLOB_SIZE);
+	blob[0] = 2;
+	assert_false(sw_caldata_decode(blob, &chip, payload));
+	blob[0] = 1;
+	blob[3] = 1;
+	assert_false(sw_caldata_decode(blob, &chip, payload));
+}
+
+/*
  * A save killed while it wrote the driver's file leaves its temporary file;
  * the next save removes it even when the driver's file holds its blob
  * already and is not written again.
@@ -2695,6 +2722,7 @@ int main(void)
 		T(test_watch_stable_save_retried),
 		T(test_watch_stable_look_retried),
 		T(test_watch_idle_reads_level),
+		T(test_caldata_header),
 		T(test_caldata_on_save),
 		T(test_caldata_stale_temp),
 		T(test_caldata_follows_file),
