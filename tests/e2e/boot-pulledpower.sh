@@ -57,7 +57,7 @@ if [ "${1:-}" = --inside ]; then
 	second)
 		client=$(basename "$(readlink -f "$DEV/..")")
 		like "the driver restored at probe" "$(dmesg)" \
-			"em7180 $client: restored calibration from em7180/caldata-[0-9a-f]{4}-[0-9a-f]{4}-$client.bin"
+			"em7180 $client: restored calibration from em7180/caldata-$client.bin"
 		like "udev's restore found it restored" "$(dmesg)" \
 			"sentral-warmstart\[[0-9]+\]: iio:device[0-9]+: already restored at probe: it holds the calibration of $f"
 		is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_level)" 4

@@ -6,13 +6,13 @@
 # loader finding DIR/firmware as em7180/ as through the package's
 # /usr/lib/firmware/em7180), like reboots of a real machine:
 #   1. calibrate (simulated motion) and save: the saved file, and the
-#      driver's firmware/caldata-RRRR-MMMM-CLIENT.bin with its payload;
+#      driver's firmware/caldata-CLIENT.bin with its payload;
 #   2. the driver restores at probe (its kernel log line), before udev's
 #      restore, which finds the chip restored and writes nothing:
 #      in_magn_calibration_auto_status is 4 (stable) without any motion and
 #      the chip's blob equals the saved payload;
 #   3. with both files corrupted (the saved file's CRC, the driver's file
-#      cut to 139 bytes), the driver warns and restores nothing, udev's
+#      cut to 147 bytes), the driver warns and restores nothing, udev's
 #      restore refuses the saved file (the message is in the kernel log),
 #      the chip is left alone and the file is moved aside; the chip
 #      calibrates again and the save (the unit's stop action) writes both
@@ -20,9 +20,9 @@
 #   4. that new calibration is restored at probe;
 #   5. the driver's file with a NaN: warned about, and udev's restore
 #      restores from the saved file and writes the driver's file back;
-#   6. only a driver's file of another RAM version: not used, nothing
-#      logged by the driver; udev's restore restores, writes this
-#      firmware's file and removes the other.
+#   6. the driver's file of another RAM version (its header): not used,
+#      said once by the driver; udev's restore restores and writes this
+#      firmware's file.
 # The host script calls itself inside the machine with the boot's name.
 set -u
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
@@ -38,8 +38,7 @@ if [ "${1:-}" = --inside ]; then
 	key=$(sentral-warmstart status --json | json_field key)
 	f=$STATE/$key.ws
 	client=$(basename "$(readlink -f "$DEV/..")")
-	rom=$(cat "$DEV/rom_version") ram=$(cat "$DEV/ram_version")
-	cal=caldata-${rom#0x}-${ram#0x}-$client.bin
+	cal=caldata-$client.bin
 	case $2 in
 	first)
 		like "first boot: nothing to restore" "$(dmesg)" "no saved calibration"
@@ -73,7 +72,7 @@ if [ "${1:-}" = --inside ]; then
 		;;
 	third)
 		like "the driver warned about its file" "$(dmesg)" \
-			"em7180 $client: em7180/$cal: 139 bytes, not 140: calibration not restored"
+			"em7180 $client: em7180/$cal: 147 bytes, not 148: calibration not restored"
 		like "refused at probe, logged with the check" "$(dmesg)" \
 			"error: $f: refused: bad CRC.*moved aside to $f.refused"
 		is "chip untouched: not calibrated (2)" "$(cal_level)" 2
@@ -107,13 +106,16 @@ if [ "${1:-}" = --inside ]; then
 			"$(blob_words <"$STATE/firmware/$cal")" "$(file_payload_words "$f")"
 		;;
 	sixth)
-		is "the driver said nothing about its file" \
-			"$(dmesg | grep caldata | grep -vc ': firmware: ')" 0
+		like "the driver refused its file, naming both firmware" \
+			"$(dmesg | grep caldata | grep -v ': firmware: ')" \
+			"em7180 $client: em7180/$cal of 80/02 ROM 09e6 RAM beef v1 refused: chip 80/02 ROM 09e6 RAM [0-9a-f]{4}"
+		is "said once" "$(dmesg | grep caldata | grep -vc ': firmware: ')" 1
 		like "udev's restore restored from the saved file" "$(dmesg)" \
 			"sentral-warmstart\[[0-9]+\]: restored iio:device[0-9]+ calibration from $f"
 		is "in_magn_calibration_auto_status 4 (stable) without motion" "$(cal_level)" 4
-		is "it wrote this firmware's file and removed the other" \
-			"$(ls "$STATE/firmware")" "$cal"
+		is "it wrote this firmware's file" "$(ls "$STATE/firmware")" "$cal"
+		is "  with this chip's identity" "$(caldata_header <"$STATE/firmware/$cal")" \
+			"$(sim_caldata_header)"
 		;;
 	esac
 	done_testing
@@ -152,16 +154,18 @@ boot "boot 2: restored at probe" second
 b=$(od -An -tu1 -j 100 -N1 "$f" | tr -d ' ')
 printf "$(printf '\\%03o' $((b ^ 0x10)))" |
 	dd of="$f" bs=1 seek=100 count=1 conv=notrunc status=none
-truncate -s 139 "$cal"
+truncate -s 147 "$cal"
 boot "boot 3: both files corrupted, refused; a new calibration saved" third
 is "the refused file kept on the host, the new one in its place" \
 	"$(cd "$state" && ls)" "firmware
 $(basename "$f")
 $(basename "$f").refused"
 boot "boot 4: the new calibration restored" fourth
-# A NaN in parameter 10 (bytes 36..39, little-endian 0x7fc00000)
-printf '\000\000\300\177' | dd of="$cal" bs=1 seek=36 count=4 conv=notrunc status=none
+# A NaN in parameter 10 (bytes 44..47 after the header, little-endian
+# 0x7fc00000)
+printf '\000\000\300\177' | dd of="$cal" bs=1 seek=44 count=4 conv=notrunc status=none
 boot "boot 5: the driver's file with a NaN: the saved file restored" fifth
-mv "$cal" "$(sed 's/\(caldata-[0-9a-f]\{4\}-\)[0-9a-f]\{4\}/\1beef/' <<<"$cal")"
+# RAM version 0xbeef in the header (bytes 6..7)
+printf '\357\276' | dd of="$cal" bs=1 seek=6 count=2 conv=notrunc status=none
 boot "boot 6: a driver's file of another RAM version not used" sixth
 done_testing

@@ -37,19 +37,19 @@ ok "bound with the pointer stopping" test -n "$DEV"
 is "probe says so once" "$(said)" $((said0 + 1))
 
 ok "calibration_data read" dd if="$DEV/calibration_data" of="$TMP/a.bin" \
-	bs=140 count=1 status=none
+	bs=148 count=1 status=none
 is "the read returns the chip's parameters" \
 	"$(blob_words <"$TMP/a.bin")" "$(sim_ws_params)"
 
 # The same blob with parameter 33 (a gyro bias) set to 0.1f
 {
-	head -c 128 "$TMP/a.bin"
+	head -c 136 "$TMP/a.bin"
 	printf '\xcd\xcc\xcc\x3d'
 	tail -c 8 "$TMP/a.bin"
 } >"$TMP/b.bin"
 knob stats 0
 ok "calibration_data write" dd if="$TMP/b.bin" of="$DEV/calibration_data" \
-	bs=140 status=none
+	bs=148 status=none
 is "the chip holds the written parameters" \
 	"$(sim_ws_params)" "$(blob_words <"$TMP/b.bin")"
 # A burst never acknowledged would have polled for 1 s
@@ -58,7 +58,7 @@ ok "no burst waited for on the way ($t transactions)" [ "$t" -le $((3 * 35 + 6))
 
 knob stats 0
 ok "calibration_data read again" dd if="$DEV/calibration_data" \
-	of="$TMP/c.bin" bs=140 count=1 status=none
+	of="$TMP/c.bin" bs=148 count=1 status=none
 is "it returns what was written" "$(blob_words <"$TMP/c.bin")" \
 	"$(blob_words <"$TMP/b.bin")"
 # Request, acknowledge, value per parameter; the echo (and, where the
@@ -75,14 +75,14 @@ rebind
 ok "bound again" test -n "$DEV"
 is "nothing more said" "$(said)" $((said0 + 1))
 ok "calibration_data read" dd if="$DEV/calibration_data" of="$TMP/d.bin" \
-	bs=140 count=1 status=none
+	bs=148 count=1 status=none
 is "it returns what was written" "$(blob_words <"$TMP/d.bin")" \
 	"$(blob_words <"$TMP/b.bin")"
 # Once the acknowledge wait is learned again: value and request in one
 # write, acknowledge and value in one read
 knob stats 0
 ok "calibration_data read again" dd if="$DEV/calibration_data" \
-	of="$TMP/d.bin" bs=140 count=1 status=none
+	of="$TMP/d.bin" bs=148 count=1 status=none
 is "two transactions per parameter + 4" "$(dbg_get stats transactions)" \
 	$((2 * 35 + 4))
 done_testing

@@ -173,7 +173,7 @@ sleep 1
 ok "calibration_data read while capturing" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
 dd if="$DEV/calibration_data" of="$TMP/ws.bin" bs=4096 status=none
 like "calibration_data write while capturing: EBUSY" \
-	"$(dd if="$TMP/ws.bin" of="$DEV/calibration_data" bs=140 2>&1)" "busy"
+	"$(dd if="$TMP/ws.bin" of="$DEV/calibration_data" bs=148 2>&1)" "busy"
 nok "calibbias write while capturing" sh -c "echo 1 > $DEV/in_accel_x_calibbias"
 is "calibbias read while capturing, from the driver's copy" "$(cat "$DEV/in_accel_x_calibbias")" 0
 nok "sampling_frequency write while capturing" sh -c "echo 200 > $DEV/in_accel_sampling_frequency"

@@ -19,7 +19,7 @@ M=$DEV/in_magn_calibration_update
 CAL="$DEV/in_magn_calibration_auto_status $DEV/in_magn_calibration_score $G $M"
 
 save() {
-	dd if="$DEV/calibration_data" of=/dev/null bs=140 count=1 status=none
+	dd if="$DEV/calibration_data" of=/dev/null bs=148 count=1 status=none
 }
 
 # The simulated chip updated its gyro bias more than N times.

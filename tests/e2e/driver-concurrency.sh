@@ -51,7 +51,7 @@ result() {
 ws_writer() {
 	while ((EPOCHSECONDS < END)); do
 		pick 1 2 3
-		dd if="$T/blob.$P" of="$DEV/calibration_data" bs=140 status=none 2>"$T/e.$1"
+		dd if="$T/blob.$P" of="$DEV/calibration_data" bs=148 status=none 2>"$T/e.$1"
 		result $? "$1"
 	done >"$T/log.$1"
 }
@@ -167,15 +167,15 @@ import struct, sys
 t = sys.argv[1]
 init = open(t + "/blob.0", "rb").read()
 for k in (1, 2, 3):
-    words = []
+    words = [init[:8]]  # the chip's identity header
     for i in range(1, 36):
         if 27 <= i <= 29:
-            words.append(init[4 * (i - 1):4 * i])
+            words.append(init[4 * (i + 1):4 * (i + 2)])
         else:
             words.append(struct.pack("<f", k + i / 64.0))
     open("%s/blob.%d" % (t, k), "wb").write(b"".join(words))
 PYEOF
-is "three test blobs of 140 bytes" "$(stat -c %s "$T"/blob.[123] | tr '\n' ' ')" "140 140 140 "
+is "three test blobs of 148 bytes" "$(stat -c %s "$T"/blob.[123] | tr '\n' ' ')" "148 148 148 "
 
 knob samples 0
 irqs0=$(dbg_get state irqs)
@@ -265,7 +265,7 @@ out=$("$PY" - "$T" $enc <<'PYEOF'
 import glob, sys
 t, enc = sys.argv[1], {int(e, 16) for e in sys.argv[2:]}
 def words(b):
-    return [int.from_bytes(b[i:i + 4], "little") for i in range(0, 140, 4)]
+    return [int.from_bytes(b[i:i + 4], "little") for i in range(8, 148, 4)]
 blobs = [words(open("%s/blob.%d" % (t, k), "rb").read()) for k in range(4)]
 enc |= set(blobs[0][26:29])
 keep = [i for i in range(35) if not 26 <= i <= 28]
@@ -273,10 +273,10 @@ n = 0
 seen = set()
 for path in glob.glob(t + "/reads.*"):
     data = open(path, "rb").read()
-    if len(data) % 140:
+    if len(data) % 148:
         sys.exit("%s: %d bytes, not whole blobs" % (path, len(data)))
-    for off in range(0, len(data), 140):
-        w = words(data[off:off + 140])
+    for off in range(0, len(data), 148):
+        w = words(data[off:off + 148])
         k = [k for k, b in enumerate(blobs) if all(w[i] == b[i] for i in keep)]
         if not k:
             sys.exit("read %d is not one written blob: %s" %
@@ -313,7 +313,7 @@ ok "chip idle after the storm" chip_idle
 # shellcheck disable=SC2086
 ok "a capture after the storm" sh -c "iio_readdev -b 16 -s 20 em7180 $CHANNELS > $T/after.bin"
 is "20 scans" "$(stat -c %s "$T/after.bin")" 640
-ok "restore the initial blob" dd if="$T/blob.0" of="$DEV/calibration_data" bs=140 status=none
+ok "restore the initial blob" dd if="$T/blob.0" of="$DEV/calibration_data" bs=148 status=none
 is "the chip has it" "$(sim_ws_params)" "$(blob_words <"$T/blob.0")"
 ok "save" dd if="$DEV/calibration_data" of="$T/saved" bs=4096 status=none
 ok "save equals the restored blob" cmp "$T/blob.0" "$T/saved"

@@ -105,7 +105,7 @@ saved_ok() {
 }
 
 restore() {
-	dd if="$1" of="$DEV/calibration_data" bs=140 status=none 2>"$TMP/err"
+	dd if="$1" of="$DEV/calibration_data" bs=148 status=none 2>"$TMP/err"
 }
 
 restored_ok() {
@@ -130,7 +130,7 @@ set_word() {
 	local v=$(($3))
 	printf "$(printf '\\%03o\\%03o\\%03o\\%03o' $((v & 255)) $((v >> 8 & 255)) \
 		$((v >> 16 & 255)) $((v >> 24 & 255)))" |
-		dd of="$1" bs=1 seek=$((4 * ($2 - 1))) count=4 conv=notrunc status=none
+		dd of="$1" bs=1 seek=$((8 + 4 * ($2 - 1))) count=4 conv=notrunc status=none
 }
 
 knob stats 0
@@ -197,8 +197,8 @@ sweep_xfer() {
 	if [ "$what" = save ]; then
 		chip_words
 		is "save: each save after a faulted one equals the chip" \
-			"$(blob_words <"$TMP/next" | sed "s/$CHIP//g")" ""
-		is "save: $faults of them" "$(stat -c %s "$TMP/next")" $((140 * faults))
+			"$(caldata_payloads "$TMP/next" | blob_words | sed "s/$CHIP//g")" ""
+		is "save: $faults of them" "$(stat -c %s "$TMP/next")" $((CALDATA_SIZE * faults))
 	fi
 	nacks=$((nacks + faults))
 	echo "# $what: $faults NACKs injected, $succeeded recovered, clean at transaction $n (${SECONDS} s)"

@@ -197,15 +197,15 @@ if [ -s "$T/out" ]; then
 else
 	ok "or the save returned nothing" test "$RC" != 0
 fi
-unbind_during "restore" dd if="$T/ref" of="$DEV/calibration_data" bs=140 status=none
+unbind_during "restore" dd if="$T/ref" of="$DEV/calibration_data" bs=148 status=none
 knob ack_never 1
 unbind_during "unacknowledged save" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=none
 like "which timed out" "$(cat "$T/err")" "timed out"
 knob ack_latency_us 500
 
 ok "save after the rebinds" dd if="$DEV/calibration_data" of="$T/a" bs=4096 status=none
-is "save: 140 bytes" "$(stat -c %s "$T/a")" 140
-ok "restore after the rebinds" dd if="$T/a" of="$DEV/calibration_data" bs=140 status=none
+is "save: 148 bytes" "$(stat -c %s "$T/a")" 148
+ok "restore after the rebinds" dd if="$T/a" of="$DEV/calibration_data" bs=148 status=none
 is "the chip holds the blob" "$(sim_ws_params)" "$(blob_words <"$T/a")"
 ok "chip idle" chip_idle
 
@@ -401,7 +401,7 @@ like "probe said so" "$(dmesg | grep em7180 | tail -n 5)" \
 is "the chip is out of that state" "$(cat "$SIM_DBG/warm_reboot")" 0
 ok "the algorithm runs" chip_idle
 ok "a parameter transfer is served" dd if="$DEV/calibration_data" of=/dev/null \
-	bs=140 count=1 status=none
+	bs=148 count=1 status=none
 
 kmemleak=/sys/kernel/debug/kmemleak
 if [ -w $kmemleak ]; then

@@ -142,8 +142,8 @@ is "passthrough ended" "$(dbg_get board passthrough)" 0
 import struct, sys
 p = [0.001] * 17 + [0.90, 1.08, 0.95, 25.0, -12.5, 40.0] + [1.0] * 3 + \
     [-0.022936, -0.00732, 0.022448] + [1.0] * 3 + [0.1, -0.05, 0.02]
-sys.stdout.buffer.write(struct.pack("<35f", *p))' >"$TMP/ws"
-ok "a warm start restored" dd if="$TMP/ws" of="$DEV/calibration_data" bs=140 status=none
+sys.stdout.buffer.write(struct.pack("<35f", *p))' | with_header "$(sim_caldata_header)" >"$TMP/ws"
+ok "a warm start restored" dd if="$TMP/ws" of="$DEV/calibration_data" bs=148 status=none
 ok "calibration stable (level 4)" wait_for 3 sh -c "[ \"\$(cat $DEV/in_magn_calibration_auto_status)\" = 4 ]"
 dd if="$DEV/calibration_data" of="$TMP/ws.before" bs=4096 status=none
 # The model's score (debugfs): the USFS firmware reports none.

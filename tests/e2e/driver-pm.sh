@@ -76,7 +76,7 @@ knob ram_version 0x0bad
 knob standby_power_loss 1
 ok "a system sleep with a power loss and a firmware update" system_sleep
 knob ram_version "$ram"
-is "the driver shows the new firmware" "$(cat "$DEV/ram_version")" 0x0bad
+is "the driver shows the new firmware" "$(driver_ram_version)" 0x0bad
 like "and logs what it skipped" "$(dmesg | grep em7180 | tail -n 5)" \
 	"firmware changed .*not restored"
 is "the old calibration was not written: status 0" \

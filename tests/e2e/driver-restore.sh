@@ -5,8 +5,8 @@
 # The driver's restore at probe (issue 34 item 3), without udev: each
 # "boot" is an unbind, a power cycle of the chip (its RAM lost) and a bind.
 # No saved calibration: nothing logged, the offsets read from the chip.
-# After a save the tool has written em7180/caldata-RRRR-MMMM-CLIENT.bin
-# (the saved payload, 0600 in a 0700 directory), and the next probe
+# After a save the tool has written em7180/caldata-CLIENT.bin (the saved
+# payload behind the chip's identity, 0600 in a 0700 directory), and the next probe
 # restores it before the IIO device appears (its add uevent comes after
 # the end of the parameter procedure): the level is 4 without motion, the
 # chip holds the payload, calibbias reads the file's offsets, and the
@@ -14,7 +14,9 @@
 # file of the wrong size, one with a NaN, a transfer that times out: one
 # warning each, probe goes on, and the tool's restore still works (and
 # puts the right file back). A file of another RAM version is not used,
-# nor logged, and the tool's restore replaces it with the right one.
+# said once, and the tool's restore replaces it with the right one; the
+# version-named file of an older driver is left alone by the driver and
+# removed by the tool.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -87,12 +89,12 @@ ok "save" sentral-warmstart save
 knob gbias_period_ms 3600000
 key=$(sentral-warmstart key)
 f=$STATE/$key.ws
-rom=$(cat "$DEV/rom_version") ram=$(cat "$DEV/ram_version")
-name=caldata-${rom#0x}-${ram#0x}-$client.bin
+name=caldata-$client.bin
 CAL=$FW/$name
 payload=$(file_payload_words "$f")
 ok "the tool wrote $name" test -f "$CAL"
 is "it holds the saved payload" "$(blob_words <"$CAL")" "$payload"
+is "behind the chip's identity" "$(caldata_header <"$CAL")" "$(sim_caldata_header)"
 is "mode 0600 in a directory 0700" "$(stat -c %a "$CAL") $(stat -c %a "$FW")" "600 700"
 is "the one file there" "$(ls -A "$FW")" "$name"
 
@@ -123,22 +125,22 @@ is "and writes nothing (35 parameters read, none written)" "$(dbg_get stats para
 # --- a bad file: warned about, probe goes on, the tool restores ------------
 
 cp "$CAL" /tmp/good.bin
-head -c 139 /tmp/good.bin >"$CAL"
+head -c 147 /tmp/good.bin >"$CAL"
 bind_fresh
-is "bind with a file of 139 bytes" $? 0
+is "bind with a file of 147 bytes" $? 0
 like "warned, with the size" "$(since)" \
-	"em7180.* $client: em7180/$name: 139 bytes, not 140: calibration not restored"
+	"em7180.* $client: em7180/$name: 147 bytes, not 148: calibration not restored"
 ok "the device is there" test -n "$DEV"
 is "not restored: level 2" "$(cal_level)" 2
 out=$(sentral-warmstart restore --if-present 2>&1)
 is "the tool's restore: exit 0" $? 0
 like "it restored" "$out" "restored iio:device[0-9]+ calibration from $f"
 is "level 4" "$(cal_level)" 4
-is "and put the right file back" "$(caldata_size) $(blob_words <"$CAL")" "140 $payload"
+is "and put the right file back" "$(caldata_size) $(blob_words <"$CAL")" "148 $payload"
 
 # A NaN in parameter 10
-{ head -c 36 /tmp/good.bin; printf '\000\000\300\177'; tail -c +41 /tmp/good.bin; } >"$CAL"
-is "a file of 140 bytes with a NaN" "$(caldata_size)" 140
+{ head -c 44 /tmp/good.bin; printf '\000\000\300\177'; tail -c +49 /tmp/good.bin; } >"$CAL"
+is "a file of 148 bytes with a NaN" "$(caldata_size)" 148
 bind_fresh
 is "bind with it" $? 0
 like "warned: not a finite float" "$(since)" \
@@ -163,15 +165,22 @@ is "level 4" "$(cal_level)" 4
 
 # --- another RAM version's file is not used --------------------------------
 
-other=caldata-${rom#0x}-0d18-$client.bin
-mv "$CAL" "$FW/$other"
+# The header of RAM 0x0d18; an older driver's file named by the versions
+hdr=$(sim_caldata_header)
+{ head -c 6 /tmp/good.bin; printf '\x18\x0d'; tail -c +9 /tmp/good.bin; } >"$CAL"
+old=caldata-09e6-0d17-$client.bin
+cp /tmp/good.bin "$FW/$old"
 bind_fresh
-is "bind with only a file for RAM 0x0d18" $? 0
-is "nothing logged about it" "$(since | driver_lines | wc -l)" 0
+is "bind with a file for RAM 0x0d18" $? 0
+like "said once, both identities" "$(since | driver_lines)" \
+	"em7180.* $client: em7180/$name of 80/02 ROM 09e6 RAM 0d18 v1 refused: chip 80/02 ROM 09e6 RAM [0-9a-f]{4}"
+is "one line about it" "$(since | driver_lines | wc -l)" 1
 is "not restored: level 2" "$(cal_level)" 2
+is "the offsets read from the chip" "$(cat "$DEV/in_accel_x_calibbias")" 0
 ok "the tool's restore works" sentral-warmstart restore --if-present
 is "level 4" "$(cal_level)" 4
-is "the tool wrote this firmware's file, removed the other" "$(ls -A "$FW")" "$name"
+is "the tool wrote this firmware's file, removed the older driver's" "$(ls -A "$FW")" "$name"
 is "holding the payload" "$(blob_words <"$CAL")" "$payload"
+is "behind this chip's identity" "$(caldata_header <"$CAL")" "$hdr"
 
 done_testing

@@ -122,7 +122,7 @@ is "$SAVES calibration_data reads while streaming, none refused" "$failed" 0
 [ "$failed" = 0 ] || sed 's/^/#   /' "$TMP"/own.bin.err*
 is "the buffer stayed enabled through them" "$enabled" 1
 ok "each read is the whole blob" \
-	test "$(cat "$TMP"/own.bin.ws* | wc -c)" = $((SAVES * 140))
+	test "$(cat "$TMP"/own.bin.ws* | wc -c)" = $((SAVES * CALDATA_SIZE))
 # one period of slack for UML's scheduling of the interrupt thread
 out=$(check_stream "$TMP/own.bin" "$TMP/own.bin.xfers" $((1000000 / RATE)) \
 	$((1000000 / RATE)) 2>&1)

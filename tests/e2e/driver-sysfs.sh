@@ -18,7 +18,7 @@ set_word() {
 	local v=$(($3))
 	printf "$(printf '\\%03o\\%03o\\%03o\\%03o' $((v & 255)) $((v >> 8 & 255)) \
 		$((v >> 16 & 255)) $((v >> 24 & 255)))" |
-		dd of="$1" bs=1 seek=$((4 * ($2 - 1))) count=4 conv=notrunc status=none
+		dd of="$1" bs=1 seek=$((8 + 4 * ($2 - 1))) count=4 conv=notrunc status=none
 }
 
 chip_idle() {
@@ -67,17 +67,20 @@ else
 	nok "no in_magn_calibration_score on this firmware" test -e "$DEV/in_magn_calibration_score"
 fi
 
-# The identity a saved warm start is checked against, read at probe.
+# The identity a saved warm start is checked against, read at probe: in
+# debugfs and the probe's log line, as bno055's firmware_version, and in
+# calibration_data's header (below); no attribute without a mainline
+# precedent.
+id="ProductID 0x80 RevisionID 0x02 ROM 0x09e6 RAM $(cat "$SIM_DBG/ram_version") eeprom"
 t=$(dbg_get stats transactions)
-is "product_id" "$(cat "$DEV/product_id")" 0x80
-is "revision_id" "$(cat "$DEV/revision_id")" 0x02
-is "rom_version" "$(cat "$DEV/rom_version")" 0x09e6
-is "ram_version is the simulator's" "$(cat "$DEV/ram_version")" "$(cat "$SIM_DBG/ram_version")"
-is "firmware_source: the board's EEPROM" "$(cat "$DEV/firmware_source")" eeprom
-is "identity reads cost no bus transaction" "$(dbg_get stats transactions)" "$t"
-is "identity attributes mode 0444" \
-	"$(stat -c %a "$DEV"/{product_id,revision_id,rom_version,ram_version,firmware_source} | tr '\n' ' ')" \
-	"444 444 444 444 444 "
+is "debugfs firmware_version: the chip, its firmware and where it came from" \
+	"$(cat "/sys/kernel/debug/iio/iio:device$N/firmware_version")" "$id"
+is "... read without a bus transaction" "$(dbg_get stats transactions)" "$t"
+is "... mode 0400" "$(stat -c %a "/sys/kernel/debug/iio/iio:device$N/firmware_version")" 400
+like "the probe's log line says the same" "$(dmesg)" "em7180 [0-9]+-0028: firmware $id"
+for a in product_id revision_id rom_version ram_version firmware_source; do
+	nok "no attribute $a" test -e "$DEV/$a"
+done
 
 # debugfs register access (IIO's direct_reg_access), for debugging real chips
 REG=/sys/kernel/debug/iio/iio:device$N/direct_reg_access
@@ -200,7 +203,8 @@ ok "chip left running after calibbias" chip_idle
 # calibration_data: save with dd, measured
 knob stats 0
 ok "dd calibration_data out (save)" dd if="$DEV/calibration_data" of="$TMP/a" bs=4096 status=none
-is "save: 140 bytes" "$(stat -c %s "$TMP/a")" 140
+is "save: 148 bytes" "$(stat -c %s "$TMP/a")" 148
+is "its header: format 1, the chip's identity" "$(caldata_header <"$TMP/a")" "$(sim_caldata_header)"
 save_t=$(dbg_get stats transactions)
 save_bus=$(dbg_get stats bus_time_us)
 save_el=$(dbg_get stats elapsed_us)
@@ -215,7 +219,7 @@ cp "$TMP/a" "$TMP/b"
 set_word "$TMP/b" 24 0x40000000
 set_word "$TMP/b" 1 0x3fc00000
 knob stats 0
-ok "dd calibration_data in (restore)" dd if="$TMP/b" of="$DEV/calibration_data" bs=140 status=none
+ok "dd calibration_data in (restore)" dd if="$TMP/b" of="$DEV/calibration_data" bs=148 status=none
 rest_t=$(dbg_get stats transactions)
 rest_bus=$(dbg_get stats bus_time_us)
 rest_el=$(dbg_get stats elapsed_us)
@@ -224,9 +228,9 @@ ok "restore: at most $(xfer_max 35) transactions ($rest_t)" [ "$rest_t" -le "$(x
 is "restore: 35 requests served" "$(dbg_get stats params_served)" 35
 is "chip holds the written blob" "$(sim_ws_params)" "$(blob_words <"$TMP/b")"
 ok "chip left running after restore" chip_idle
-ok "dd calibration_data out again" dd if="$DEV/calibration_data" of="$TMP/c" bs=140 count=1 status=none
+ok "dd calibration_data out again" dd if="$DEV/calibration_data" of="$TMP/c" bs=148 count=1 status=none
 ok "round trip: read equals written" cmp "$TMP/b" "$TMP/c"
-ok "restore the original blob" dd if="$TMP/a" of="$DEV/calibration_data" bs=140 status=none
+ok "restore the original blob" dd if="$TMP/a" of="$DEV/calibration_data" bs=148 status=none
 is "and the chip has it again" "$(sim_ws_params)" "$(blob_words <"$TMP/a")"
 
 # Refusals: nothing reaches the bus
@@ -239,25 +243,37 @@ ok "read of 100 bytes refused, no bus traffic" \
 	refused dd if="$DEV/calibration_data" of=/dev/null bs=100 count=1 status=none
 ok "read at offset 4 refused" \
 	refused dd if="$DEV/calibration_data" of=/dev/null bs=4 skip=1 count=1 status=none
-head -c 139 "$TMP/a" >"$TMP/short"
-ok "write of 139 bytes refused, no bus traffic" \
+head -c 147 "$TMP/a" >"$TMP/short"
+ok "write of 147 bytes refused, no bus traffic" \
 	refused dd if="$TMP/short" of="$DEV/calibration_data" bs=4096 status=none
 { cat "$TMP/a"; printf 'x'; } >"$TMP/long"
-ok "write of 141 bytes refused, no bus traffic" \
+ok "write of 149 bytes refused, no bus traffic" \
 	refused dd if="$TMP/long" of="$DEV/calibration_data" bs=4096 status=none
-ok "write at offset 140 refused" \
-	refused dd if="$TMP/a" of="$DEV/calibration_data" bs=140 seek=1 status=none
+tail -c +9 "$TMP/a" >"$TMP/bare"
+ok "the 140 bytes without the header refused, no bus traffic" \
+	refused dd if="$TMP/bare" of="$DEV/calibration_data" bs=4096 status=none
+ok "write at offset 148 refused" \
+	refused dd if="$TMP/a" of="$DEV/calibration_data" bs=148 seek=1 status=none
 for v in 0x7fc00000 0x7f800000 0xff800000 0xffffffff; do
 	cp "$TMP/a" "$TMP/bad"
 	set_word "$TMP/bad" 20 $v
 	ok "blob with $v refused, no bus traffic" \
-		refused dd if="$TMP/bad" of="$DEV/calibration_data" bs=140 status=none
+		refused dd if="$TMP/bad" of="$DEV/calibration_data" bs=148 status=none
 done
+# Another chip's or firmware's blob: each byte of the header in turn
+for i in 0 1 2 3 4 5 6 7; do
+	cp "$TMP/a" "$TMP/other"
+	printf '\x5a' | dd of="$TMP/other" bs=1 seek=$i count=1 conv=notrunc status=none
+	ok "header byte $i changed: refused, no bus traffic" \
+		refused dd if="$TMP/other" of="$DEV/calibration_data" bs=148 status=none
+done
+like "the kernel log names both identities" "$(dmesg | tail -n 20)" \
+	"em7180 [0-9]+-0028: calibration_data of [0-9a-f]{2}/[0-9a-f]{2} ROM [0-9a-f]{4} RAM [0-9a-f]{4} v[0-9]+ refused: chip 80/02 ROM 09e6 RAM [0-9a-f]{4}"
 ok "chip unchanged by the refusals" test "$(sim_ws_params)" = "$(blob_words <"$TMP/a")"
 
 # Errors from the chip are passed up and transfer mode still ends
 knob ack_never 1
-out=$(dd if="$TMP/a" of="$DEV/calibration_data" bs=140 2>&1)
+out=$(dd if="$TMP/a" of="$DEV/calibration_data" bs=148 2>&1)
 like "no acknowledge: timed out" "$out" "timed out"
 knob ack_never 0
 ok "chip left running after the timeout" chip_idle
@@ -272,7 +288,7 @@ ok "next save works" dd if="$DEV/calibration_data" of=/dev/null bs=4096 status=n
 # a save must fail rather than hand out a blob no restore accepts, and
 # must not drop the driver's copy of the last valid calibration, which is
 # what it writes back when the chip resets itself.
-ok "restore blob b" dd if="$TMP/b" of="$DEV/calibration_data" bs=140 status=none
+ok "restore blob b" dd if="$TMP/b" of="$DEV/calibration_data" bs=148 status=none
 SIM_BUS=$(sim_bus)
 # In the reference hosts' order, which works whatever the register pointer
 # does

@@ -109,17 +109,16 @@ like "the log says what was uploaded" "$(since | grep em7180)" \
 # calibration the driver looks for at probe, which there is none of here)
 is "nothing refused" "$(since | grep -v 'failed to load em7180/caldata-' |
 	grep -c 'em7180.*\(error\|fail\|mismatch\)')" 0
-is "ram_version is the image's" "$(cat "$DEV/ram_version")" 0x0e42
-is "firmware_source: the host" "$(cat "$DEV/firmware_source")" host
-is "rom_version" "$(cat "$DEV/rom_version")" 0x09e6
+like "firmware_version: the image's RAM version, from the host" \
+	"$(driver_fw_version)" "ROM 0x09e6 RAM 0x0e42 host$"
 is "firmware from the host, running" \
 	"$(dbg_get board firmware) $(dbg_get state running)" "host 1"
 ok "buffered capture: iio_readdev -b 16 -s 50" \
 	sh -c "iio_readdev -b 16 -s 50 em7180 >$T/cap.bin"
 is "50 scans of 40 bytes" "$(stat -c %s "$T/cap.bin")" 2000
 ok "calibration_data read" dd if="$DEV/calibration_data" of="$T/ws.bin" \
-	bs=140 count=1 status=none
-is "140 bytes" "$(stat -c %s "$T/ws.bin")" 140
+	bs=148 count=1 status=none
+is "148 bytes" "$(stat -c %s "$T/ws.bin")" 148
 ok "calibbias write" sh -c "echo -47 >$DEV/in_accel_x_calibbias"
 
 # A reset of the chip's own loses the RAM: recovery uploads again
@@ -130,7 +129,7 @@ ok "after chip_reset the driver uploads again" wait_for 10 \
 	sh -c "[ \$(dmesg | grep -c '$UPLOADED') -gt $n ]"
 ok "and the chip runs" wait_for 5 \
 	sh -c "[ \"\$(awk '\$1 == \"running\" { print \$2 }' $SIM_DBG/state)\" = 1 ]"
-is "the same firmware" "$(cat "$DEV/ram_version") $(dbg_get board firmware)" \
+is "the same firmware" "$(driver_ram_version) $(dbg_get board firmware)" \
 	"0x0e42 host"
 is "the offset written back" "$(cat "$DEV/in_accel_x_calibbias")" -47
 is "recovery reports no error" \
@@ -169,7 +168,7 @@ mark
 ok "bind again" bind
 ok "uploaded again" sh -c "dmesg | tail -n +$(($(cat "$T/mark") + 1)) | grep -q '$UPLOADED'"
 DEV=$(em7180_dir)
-is "ram_version" "$(cat "$DEV/ram_version")" 0x0e42
+is "RAM version" "$(driver_ram_version)" 0x0e42
 ok "capture" sh -c "iio_readdev -b 16 -s 20 em7180 >$T/cap3.bin"
 is "20 scans" "$(stat -c %s "$T/cap3.bin")" 800
 
@@ -182,8 +181,8 @@ ok "bind with an EEPROM" bind
 DEV=$(em7180_dir)
 is "nothing uploaded" "$(uploads)" "$n"
 is "the EEPROM's firmware" \
-	"$(cat "$DEV/ram_version") $(dbg_get board firmware)" "0x0d17 eeprom"
-is "firmware_source: the EEPROM" "$(cat "$DEV/firmware_source")" eeprom
+	"$(driver_ram_version) $(dbg_get board firmware)" "0x0d17 eeprom"
+like "firmware_version: from the EEPROM" "$(driver_fw_version)" "RAM 0x0d17 eeprom$"
 ok "capture" sh -c "iio_readdev -b 16 -s 20 em7180 >$T/cap4.bin"
 is "20 scans" "$(stat -c %s "$T/cap4.bin")" 800
 
@@ -207,8 +206,8 @@ ok "board.fw installed: bind" bind
 DEV=$(em7180_dir)
 like "board.fw uploaded over the EEPROM's firmware" "$(since | grep em7180)" \
 	"firmware board.fw uploaded \(1024 bytes, CRC $crc\)"
-is "ram_version is board.fw's" "$(cat "$DEV/ram_version")" 0x0e43
-is "firmware_source: the host, over the EEPROM's" "$(cat "$DEV/firmware_source")" host
+like "firmware_version: board.fw's RAM version, from the host over the EEPROM's" \
+	"$(driver_fw_version)" "RAM 0x0e43 host$"
 is "firmware from the host" "$(dbg_get board firmware)" host
 ok "capture" sh -c "iio_readdev -b 16 -s 20 em7180 >$T/cap5.bin"
 is "20 scans" "$(stat -c %s "$T/cap5.bin")" 800
@@ -218,7 +217,7 @@ ok "after a reset (the EEPROM's firmware again) board.fw is uploaded again" \
 	wait_for 10 sh -c "[ \$(dmesg | grep -c 'firmware board.fw uploaded') -gt $n ]"
 ok "and the chip runs" wait_for 5 \
 	sh -c "[ \"\$(awk '\$1 == \"running\" { print \$2 }' $SIM_DBG/state)\" = 1 ]"
-is "board.fw's firmware" "$(cat "$DEV/ram_version") $(dbg_get board firmware)" \
+is "board.fw's firmware" "$(driver_ram_version) $(dbg_get board firmware)" \
 	"0x0e43 host"
 
 # Back as tests/uml/run leaves it, with an EEPROM

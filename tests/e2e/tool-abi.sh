@@ -11,9 +11,11 @@
 # command but key and show then exits 78 before touching anything, with a
 # message that says older or newer and what to install; key still names
 # the device for udev; the watcher's unit does not restart on 78 and has a
-# start limit. A driver without the optional firmware_source works, status
-# saying the firmware's origin is unknown. With the real directory back,
-# everything works again.
+# start limit. This release's driver has the chip's identity in
+# calibration_data's header and no firmware_source: status shows the
+# identity and says the firmware's origin is unknown. The driver before
+# the header (identity attributes, firmware_source, a 140-byte blob) still
+# works. With the real directory back, everything works again.
 . "$SENTRAL_ROOT/tests/lib/tap.sh"
 . "$SENTRAL_ROOT/tools/sentral-warmstart/tests/e2e-lib.sh"
 
@@ -105,17 +107,35 @@ is "the score without the update flags: status exits 78" $? 78
 like "saying which is missing" "$out" \
 	"the em7180 driver lacks in_anglvel_calibration_update and more, which sentral-warmstart $version uses, .*: it is newer than this tool"
 
-# A driver before firmware_source (7.3): optional, status says unknown.
-fake_dir /tmp/pre-source -firmware_source
-out=$(with_dir /tmp/pre-source sentral-warmstart status 2>&1)
-is "a driver without firmware_source: status exits 0" $? 0
+# This release's driver: the identity from calibration_data's header, the
+# firmware's origin said only in the kernel log and debugfs.
+out=$(sentral-warmstart status 2>&1)
+like "the chip's identity from calibration_data's header" "$out" \
+	'chip: +ProductID 0x80, RevisionID 0x02, ROM 0x09e6, RAM 0x[0-9a-f]{4}'
 like "the firmware's origin unknown, and why" "$out" \
-	'firmware: +unknown \(this em7180 driver does not say: no firmware_source attribute\)'
+	"firmware: +unknown \\(not in the em7180 driver's sysfs; its probe line in the kernel log says\\)"
 like "the feature sensors still shown" "$out" 'feature sensors: +pressure [0-9.]+ kPa at 25 Hz'
-like "--json: firmware_source null" \
-	"$(with_dir /tmp/pre-source sentral-warmstart status --json 2>&1)" \
-	'"firmware_source":null,"feature_sensors":\[\{"name":"pressure",'
-ok "save works with it" with_dir /tmp/pre-source sentral-warmstart save --force --file /tmp/pre-source.ws
+like "--json: the identity, firmware_source null" "$(sentral-warmstart status --json 2>&1)" \
+	'"product_id":128,"revision_id":2,"rom_version":2534,"ram_version":[0-9]+,"firmware_source":null,"feature_sensors":\[\{"name":"pressure",'
+
+# The driver before the header: the identity and firmware_source as
+# attributes, calibration_data the 140-byte payload alone.
+fake_dir /tmp/pre-header product_id revision_id rom_version ram_version \
+	firmware_source
+echo 0x80 >/tmp/pre-header/product_id
+echo 0x02 >/tmp/pre-header/revision_id
+echo 0x09e6 >/tmp/pre-header/rom_version
+echo 0x0d17 >/tmp/pre-header/ram_version
+echo eeprom >/tmp/pre-header/firmware_source
+dd if="$real/calibration_data" bs=148 status=none | tail -c +9 >/tmp/pre-header/calibration_data
+out=$(with_dir /tmp/pre-header sentral-warmstart status 2>&1)
+is "the driver before the header: status exits 0" $? 0
+like "the identity from its attributes" "$out" \
+	'chip: +ProductID 0x80, RevisionID 0x02, ROM 0x09e6, RAM 0x0d17'
+like "the firmware's origin from firmware_source" "$out" "firmware: +from the board's EEPROM"
+ok "save works with it" with_dir /tmp/pre-header sentral-warmstart save --force --file /tmp/pre-header.ws
+is "saving its 140 bytes" "$(file_payload_words /tmp/pre-header.ws)" \
+	"$(blob_words </tmp/pre-header/calibration_data)"
 
 ok "the real directory back: status exits 0" sentral-warmstart status
 unit=$SENTRAL_ROOT/tools/sentral-warmstart/systemd/sentral-warmstart@.service.in

@@ -68,7 +68,7 @@ is "the chip's identity, as save records it" \
 	"$(sentral-warmstart show "$f" |
 		sed -n 's/^\(ProductID\|RevisionID\|ROM version\|RAM version\): *//p' |
 		tr '\n' ' ')" \
-	"$(cat "$DEV"/{product_id,revision_id,rom_version,ram_version} | tr '\n' ' ')"
+	"$(driver_fw_version | awk '{ printf "%s %s %s %s ", $2, $4, $6, $8 }')"
 
 # An import does not replace a saved file without --force.
 cp "$f" "$work/saved"

@@ -37,6 +37,22 @@ em7180_dir() {
 	return 1
 }
 
+# The driver's debugfs firmware_version of the device in DEV: "ProductID
+# 0x80 RevisionID 0x02 ROM 0x09e6 RAM 0x0d17 eeprom".
+driver_fw_version() {
+	cat "/sys/kernel/debug/iio/${DEV##*/}/firmware_version"
+}
+
+# The RAM version the driver holds, "0x0d17".
+driver_ram_version() {
+	driver_fw_version | awk '{ print $8 }'
+}
+
+# ram_is VERSION: the driver holds that RAM version.
+ram_is() {
+	[ "$(driver_ram_version)" = "$1" ]
+}
+
 # The I2C bus number of the simulator's adapter.
 sim_bus() {
 	local d
@@ -53,8 +69,57 @@ sim_ws_params() {
 	awk '$1 >= 1 && $1 <= 35 { printf "%s ", $2 }' "$SIM_DBG/params"
 }
 
-# 140 bytes on stdin as 35 little-endian words, "0x%08x ..." (the host and
-# UML are little-endian, so od's native order is the chip's).
+# calibration_data: an 8-byte identity header, then the 140-byte payload
+CALDATA_SIZE=148
+
+# A payload (140 bytes) or a calibration_data blob (148, its header left
+# out) on stdin as 35 little-endian words, "0x%08x ..." (the host and UML
+# are little-endian, so od's native order is the chip's).
 blob_words() {
-	od -An -v -tx4 -w4 | awk '{ printf "0x%s ", $1 }'
+	local t
+	t=$(mktemp)
+	cat >"$t"
+	if [ "$(stat -c %s "$t")" = "$CALDATA_SIZE" ]; then
+		tail -c +9 "$t"
+	else
+		cat "$t"
+	fi | od -An -v -tx4 -w4 | awk '{ printf "0x%s ", $1 }'
+	rm -f "$t"
+}
+
+# The header calibration_data has on the simulated chip: format 1,
+# ProductID, RevisionID, 0, ROM and RAM versions little-endian, as hex
+# bytes "01 80 02 00 e6 09 17 0d".
+sim_caldata_header() {
+	local pid rev rom ram
+	pid=$(cat "$SIM_DBG/product_id") rev=$(cat "$SIM_DBG/revision_id")
+	rom=$(cat "$SIM_DBG/rom_version") ram=$(cat "$SIM_DBG/ram_version")
+	printf '01 %02x %02x 00 %02x %02x %02x %02x' "$pid" "$rev" \
+		$((rom & 0xff)) $((rom >> 8)) $((ram & 0xff)) $((ram >> 8))
+}
+
+# caldata_payloads FILE: the payloads of a file of whole calibration_data
+# blobs (several saves appended), concatenated.
+caldata_payloads() {
+	local i n
+	n=$(($(stat -c %s "$1") / CALDATA_SIZE))
+	for ((i = 0; i < n; i++)); do
+		dd if="$1" iflag=skip_bytes skip=$((i * CALDATA_SIZE + 8)) bs=140 \
+			count=1 status=none
+	done
+}
+
+# caldata_header <FILE: a blob's header, as sim_caldata_header prints it.
+caldata_header() {
+	head -c 8 | od -An -v -tx1 | xargs
+}
+
+# with_header HEX <PAYLOAD >BLOB: a payload behind the header HEX (as
+# sim_caldata_header prints it), the blob calibration_data takes.
+with_header() {
+	local b
+	for b in $1; do
+		printf "\\x$b"
+	done
+	cat
 }

@@ -9,13 +9,14 @@
 
 /*
  * Every attribute of the IIO device that the driver backend reads or writes,
- * but the optional ones: firmware_source (7.3; status says "unknown"
- * without it), the feature sensors' channels (only on boards that have
- * them) and the score below, which are not listed here.
+ * but the optional ones, which are not listed here: the identity and
+ * firmware_source of the drivers before 1.2.0 (later ones have the
+ * identity in calibration_data's header, caldata.h, and status says the
+ * firmware's origin is unknown), the feature sensors' channels (only on
+ * boards that have them) and the score below.
  */
 static const char *const required[] = {
 	"calibration_data",
-	"product_id", "revision_id", "rom_version", "ram_version",
 	/* the calibration level, 0..4, on every firmware */
 	"in_magn_calibration_auto_status",
 	"in_accel_x_raw", "in_accel_y_raw", "in_accel_z_raw",

@@ -21,8 +21,13 @@ struct sw_backend_ops {
 			 struct sw_err *e);
 	int (*read_blob)(struct sw_backend *b, uint8_t *blob,
 			 struct sw_err *e);
-	int (*write_blob)(struct sw_backend *b, const uint8_t *blob,
-			  struct sw_err *e);
+	/*
+	 * chip: the identity the blob was saved with. A backend that
+	 * checks_identity refuses another chip's or firmware's blob with
+	 * SW_EXIT_FILE before the chip is touched.
+	 */
+	int (*write_blob)(struct sw_backend *b, const struct sw_chip_info *chip,
+			  const uint8_t *blob, struct sw_err *e);
 	/* One sample of the magnetometer output, uT. */
 	int (*mag)(struct sw_backend *b, double ut[3], struct sw_err *e);
 	/* One sample of the scaled accelerometer output, LSB. */
@@ -57,6 +62,13 @@ struct sw_backend {
 	char client[64];
 	/* "" when none; an old key shared by two chips is not listed */
 	char legacy_key[SW_NLEGACY][SW_KEY_MAX];
+	/*
+	 * The driver (1.2.0 on) has the chip's identity in the blob's
+	 * header (caldata.h), not in attributes: chip_info then costs a read
+	 * of the blob unless one was read since the last write, and a write
+	 * checks the identity itself.
+	 */
+	bool checks_identity;
 };
 
 struct sw_iio_opts {

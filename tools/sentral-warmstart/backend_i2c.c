@@ -335,11 +335,13 @@ static int i2c_read_blob(struct sw_backend *b, uint8_t *blob,
 	return param_batch(to_i2c(b), 1, SW_NPARAMS, false, blob, e);
 }
 
-static int i2c_write_blob(struct sw_backend *b, const uint8_t *blob,
-			  struct sw_err *e)
+/* The identity is the caller's to check: restore reads the registers. */
+static int i2c_write_blob(struct sw_backend *b, const struct sw_chip_info *chip,
+			  const uint8_t *blob, struct sw_err *e)
 {
 	uint8_t tmp[SW_BLOB_SIZE];
 
+	(void)chip;
 	memcpy(tmp, blob, sizeof(tmp));
 	return param_batch(to_i2c(b), 1, SW_NPARAMS, true, tmp, e);
 }

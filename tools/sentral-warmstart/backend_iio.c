@@ -5,7 +5,7 @@
  * libiio finds the device; every attribute is then read and written with
  * plain open/read/write on sysfs, because libiio 0.24's local backend
  * overwrites the last byte of what it reads (it assumes a trailing
- * newline), which would corrupt the 140-byte binary calibration_data attribute.
+ * newline), which would corrupt the binary calibration_data attribute.
  */
 #include <errno.h>
 #include <fcntl.h>
@@ -19,6 +19,7 @@
 
 #include "abi.h"
 #include "backend.h"
+#include "caldata.h"
 
 #define IIO_SYSFS "/sys/bus/iio/devices"
 
@@ -28,6 +29,9 @@ struct iio_be {
 	char parent[64];	/* the I2C client, e.g. "0-0028" */
 	double magn_ut;		/* in_magn_scale in uT per LSB, 0: not read yet */
 	char id_path[256];	/* udev's ID_PATH, "" when none */
+	/* b.checks_identity: that of the last blob read, when have_id */
+	bool have_id;
+	struct sw_chip_info id;
 };
 
 /* Copy with truncation; the callers' buffers are far larger than the data. */
@@ -195,16 +199,29 @@ static int attr_read_hex(struct iio_be *ib, const char *attr,
 	return SW_EXIT_OK;
 }
 
+static int iio_read_blob(struct sw_backend *b, uint8_t *blob,
+			 struct sw_err *e);
+
 /*
  * The identity a saved file is checked against: ProductID, RevisionID and
- * the ROM/RAM versions, as the driver read them from the chip.
+ * the ROM/RAM versions, as the driver read them from the chip: in the
+ * header of calibration_data, from the read of it that a save or status
+ * made already, else from one read now; from attributes before 1.2.0.
  */
 static int iio_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
 			 struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
 	unsigned int pid = 0, rev = 0, rom = 0, ram = 0;
+	uint8_t blob[SW_BLOB_SIZE];
 	int ret;
+
+	if (b->checks_identity) {
+		ret = ib->have_id ? SW_EXIT_OK : iio_read_blob(b, blob, e);
+		if (!ret)
+			*ci = ib->id;
+		return ret;
+	}
 
 	ret = attr_read_hex(ib, "product_id", 0xff, &pid, e);
 	ret = ret ? ret : attr_read_hex(ib, "revision_id", 0xff, &rev, e);
@@ -332,11 +349,19 @@ static int blob_err(struct iio_be *ib, const char *op, int err,
 	return attr_err(ib, op, "calibration_data", err, e);
 }
 
+/* The blob's size: with its identity header since 1.2.0 (caldata.h). */
+static size_t blob_size(const struct iio_be *ib)
+{
+	return ib->b.checks_identity ? SW_CALDATA_SIZE : SW_BLOB_SIZE;
+}
+
 static int iio_read_blob(struct sw_backend *b, uint8_t *blob,
 			 struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
 	char path[PATH_MAX + 24];
+	uint8_t buf[SW_CALDATA_SIZE];
+	size_t size = blob_size(ib);
 	ssize_t n;
 	int fd, err;
 
@@ -345,33 +370,57 @@ static int iio_read_blob(struct sw_backend *b, uint8_t *blob,
 	if (fd < 0)
 		return blob_err(ib, "opening", errno, e);
 	/* Whole blob in one read at offset 0, as the ABI requires. */
-	n = read(fd, blob, SW_BLOB_SIZE);
+	n = read(fd, buf, size);
 	err = n < 0 ? errno : EIO;
 	close(fd);
-	if (n != SW_BLOB_SIZE)
+	if (n < 0 || (size_t)n != size)
 		return blob_err(ib, "reading", err, e);
+	if (!b->checks_identity) {
+		memcpy(blob, buf, SW_BLOB_SIZE);
+		return SW_EXIT_OK;
+	}
+	if (!sw_caldata_decode(buf, &ib->id, blob))
+		return sw_err_set(e, SW_EXIT_DRIVER,
+				  "%s: calibration_data starts %02x %02x %02x %02x, not the header of format %d: a driver newer than this tool; install the sentral-warmstart of the driver's release",
+				  b->name, buf[0], buf[1], buf[2], buf[3],
+				  SW_CALDATA_FORMAT);
+	ib->have_id = true;
 	return SW_EXIT_OK;
 }
 
-static int iio_write_blob(struct sw_backend *b, const uint8_t *blob,
-			  struct sw_err *e)
+static int iio_write_blob(struct sw_backend *b, const struct sw_chip_info *chip,
+			  const uint8_t *blob, struct sw_err *e)
 {
 	struct iio_be *ib = to_iio(b);
 	char path[PATH_MAX + 24];
+	uint8_t buf[SW_CALDATA_SIZE];
+	size_t size = blob_size(ib);
 	ssize_t n;
 	int fd, err;
 
+	if (b->checks_identity)
+		sw_caldata_encode(chip, blob, buf);
+	else
+		memcpy(buf, blob, SW_BLOB_SIZE);
+	/* The chip's identity is read again after a write, refused or not */
+	ib->have_id = false;
 	snprintf(path, sizeof(path), "%s/calibration_data", ib->dir);
 	fd = open(path, O_WRONLY | O_CLOEXEC);
 	if (fd < 0)
 		return blob_err(ib, "opening", errno, e);
-	n = write(fd, blob, SW_BLOB_SIZE);
+	n = write(fd, buf, size);
 	err = n < 0 ? errno : EIO;
-	if (close(fd) < 0 && n == SW_BLOB_SIZE) {
+	if (close(fd) < 0 && n >= 0 && (size_t)n == size) {
 		n = -1;
 		err = errno;
 	}
-	if (n != SW_BLOB_SIZE)
+	/* The payload was checked finite: the header is what it refused */
+	if (n < 0 && err == EINVAL && b->checks_identity)
+		return sw_err_set(e, SW_EXIT_FILE,
+				  "%s: the driver refused the calibration of ProductID 0x%02x, RevisionID 0x%02x, ROM 0x%04x, RAM 0x%04x: saved on another chip or firmware",
+				  b->name, chip->product_id, chip->revision_id,
+				  chip->rom_version, chip->ram_version);
+	if (n < 0 || (size_t)n != size)
 		return blob_err(ib, "writing", err, e);
 	return SW_EXIT_OK;
 }
@@ -451,8 +500,9 @@ static int iio_accel_offset_set(struct sw_backend *b, const int lsb[3],
 }
 
 /*
- * firmware_source (since 7.3): "eeprom" or "host". Optional: a driver
- * without it still serves every other command, and status says unknown.
+ * firmware_source: "eeprom" or "host", in the drivers before 1.2.0 that
+ * have it; later ones say it in the kernel log at probe and in debugfs
+ * (firmware_version), which are no interface: status says unknown.
  */
 static int iio_fw_source(struct iio_be *ib, struct sw_hub_info *hi,
 			 struct sw_err *e)
@@ -466,8 +516,7 @@ static int iio_fw_source(struct iio_be *ib, struct sw_hub_info *hi,
 		return ret;
 	if (err)
 		snprintf(hi->fw_why, sizeof(hi->fw_why),
-			 "this em7180 driver does not say: no %s attribute",
-			 attr);
+			 "not in the em7180 driver's sysfs; its probe line in the kernel log says");
 	else if (!strcmp(buf, "eeprom"))
 		hi->fw_source = SW_FW_EEPROM;
 	else if (!strcmp(buf, "host"))
@@ -764,6 +813,8 @@ int sw_iio_open(const struct sw_iio_opts *o, struct sw_backend **out,
 			return ret;
 		}
 	}
+	/* Drivers before 1.2.0: identity attributes, a blob without header */
+	found->b.checks_identity = !attr_exists("rom_version", found);
 	*out = &found->b;
 	return SW_EXIT_OK;
 }

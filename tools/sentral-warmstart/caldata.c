@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-only
 /*
- * sentral-warmstart: the file the em7180 driver restores at probe.
+ * sentral-warmstart: the em7180 driver's calibration_data blob and the
+ * file the driver restores at probe (caldata.h).
  */
 #include <dirent.h>
 #include <errno.h>
@@ -15,11 +16,55 @@
 #define PREFIX "caldata-"
 #define SUFFIX ".bin"
 
-bool sw_caldata_name(const struct sw_chip_info *chip, const char *dev,
-		     char *out, size_t len)
+/* The header's fields (caldata.h) */
+enum {
+	HDR_FORMAT,
+	HDR_PRODUCT,
+	HDR_REVISION,
+	HDR_RESERVED,
+	HDR_ROM,		/* u16 LE */
+	HDR_RAM = HDR_ROM + 2,	/* u16 LE */
+};
+
+static void put_le16(uint8_t *p, uint16_t v)
 {
-	int n = snprintf(out, len, PREFIX "%04x-%04x-%s" SUFFIX,
-			 chip->rom_version, chip->ram_version, dev);
+	p[0] = (uint8_t)v;
+	p[1] = (uint8_t)(v >> 8);
+}
+
+static uint16_t get_le16(const uint8_t *p)
+{
+	return (uint16_t)(p[0] | p[1] << 8);
+}
+
+void sw_caldata_encode(const struct sw_chip_info *chip, const uint8_t *payload,
+		       uint8_t out[SW_CALDATA_SIZE])
+{
+	out[HDR_FORMAT] = SW_CALDATA_FORMAT;
+	out[HDR_PRODUCT] = chip->product_id;
+	out[HDR_REVISION] = chip->revision_id;
+	out[HDR_RESERVED] = 0;
+	put_le16(&out[HDR_ROM], chip->rom_version);
+	put_le16(&out[HDR_RAM], chip->ram_version);
+	memcpy(&out[SW_CALDATA_HDR_SIZE], payload, SW_BLOB_SIZE);
+}
+
+bool sw_caldata_decode(const uint8_t in[SW_CALDATA_SIZE],
+		       struct sw_chip_info *chip, uint8_t *payload)
+{
+	if (in[HDR_FORMAT] != SW_CALDATA_FORMAT || in[HDR_RESERVED])
+		return false;
+	chip->product_id = in[HDR_PRODUCT];
+	chip->revision_id = in[HDR_REVISION];
+	chip->rom_version = get_le16(&in[HDR_ROM]);
+	chip->ram_version = get_le16(&in[HDR_RAM]);
+	memcpy(payload, &in[SW_CALDATA_HDR_SIZE], SW_BLOB_SIZE);
+	return true;
+}
+
+bool sw_caldata_name(const char *dev, char *out, size_t len)
+{
+	int n = snprintf(out, len, PREFIX "%s" SUFFIX, dev);
 
 	return n > 0 && (size_t)n < len;
 }
@@ -34,8 +79,8 @@ static bool is_hex4(const char *s)
 	return true;
 }
 
-/* "caldata-HHHH-HHHH-DEV.bin" for this DEV, whatever the versions. */
-static bool is_caldata_of(const char *name, const char *dev)
+/* "caldata-HHHH-HHHH-DEV.bin" for this DEV: what drivers before 1.2.0 read */
+static bool is_versioned_of(const char *name, const char *dev)
 {
 	size_t pl = strlen(PREFIX), dl = strlen(dev), sl = strlen(SUFFIX);
 	const char *v = name + pl;
@@ -45,9 +90,8 @@ static bool is_caldata_of(const char *name, const char *dev)
 	       !strncmp(v + 10, dev, dl) && !strcmp(v + 10 + dl, SUFFIX);
 }
 
-/* The other versions' files of dev in dir, all of them tried. */
-static int remove_others(const char *dir, const char *keep, const char *dev,
-			 struct sw_err *e)
+/* The versioned files of dev in dir, all of them tried. */
+static int remove_versioned(const char *dir, const char *dev, struct sw_err *e)
 {
 	struct dirent *de;
 	DIR *d;
@@ -62,12 +106,12 @@ static int remove_others(const char *dir, const char *keep, const char *dev,
 		return ret;
 	}
 	while ((de = readdir(d))) {
-		if (!is_caldata_of(de->d_name, dev) || !strcmp(de->d_name, keep))
+		if (!is_versioned_of(de->d_name, dev))
 			continue;
 		/* A symlink goes itself: unlinkat never follows one. */
 		if (unlinkat(fd, de->d_name, 0) < 0 && errno != ENOENT && !ret)
 			ret = sw_err_set(e, SW_EXIT_IO,
-					 "%s/%s: cannot remove this calibration of another firmware: %s",
+					 "%s/%s: cannot remove this file of an older driver: %s",
 					 dir, de->d_name, strerror(errno));
 	}
 	closedir(d);
@@ -75,10 +119,10 @@ static int remove_others(const char *dir, const char *keep, const char *dev,
 }
 
 int sw_caldata_write(const char *state_dir, const struct sw_chip_info *chip,
-		     const char *dev, const uint8_t *blob, bool *wrote,
+		     const char *dev, const uint8_t *payload, bool *wrote,
 		     struct sw_err *e)
 {
-	uint8_t now[SW_FILE_MAX_READ + 1];
+	uint8_t now[SW_FILE_MAX_READ + 1], blob[SW_CALDATA_SIZE];
 	char dir[4096], name[256], path[4400];
 	struct sw_err re;
 	size_t len;
@@ -86,7 +130,8 @@ int sw_caldata_write(const char *state_dir, const struct sw_chip_info *chip,
 
 	if (wrote)
 		*wrote = false;
-	if (!sw_caldata_name(chip, dev, name, sizeof(name)))
+	sw_caldata_encode(chip, payload, blob);
+	if (!sw_caldata_name(dev, name, sizeof(name)))
 		return sw_err_set(e, SW_EXIT_DEVICE,
 				  "%s: device name too long for a calibration file name",
 				  dev);
@@ -95,8 +140,8 @@ int sw_caldata_write(const char *state_dir, const struct sw_chip_info *chip,
 	/* Written only when it changes: flash wears with each write. */
 	sw_err_clear(&re);
 	if (sw_file_read(path, SW_READ_STATE, now, &len, NULL, &re) ||
-	    len != SW_BLOB_SIZE || memcmp(now, blob, SW_BLOB_SIZE)) {
-		ret = sw_file_write_atomic(path, blob, SW_BLOB_SIZE, true, e);
+	    len != SW_CALDATA_SIZE || memcmp(now, blob, SW_CALDATA_SIZE)) {
+		ret = sw_file_write_atomic(path, blob, SW_CALDATA_SIZE, true, e);
 		if (ret)
 			return ret;
 		if (wrote)
@@ -105,5 +150,5 @@ int sw_caldata_write(const char *state_dir, const struct sw_chip_info *chip,
 		/* A save killed while it wrote the file left its temp file */
 		sw_file_remove_stale_temps(path);
 	}
-	return remove_others(dir, name, dev, e);
+	return remove_versioned(dir, dev, e);
 }

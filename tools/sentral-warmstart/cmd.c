@@ -765,6 +765,62 @@ static bool restored_at_probe(struct sw_backend *b, const struct sw_opts *o,
 	       !sw_blob_restored(blob, f->payload);
 }
 
+/*
+ * The file's identity against the chip's: SW_EXIT_OK to go on (a match, or
+ * --force, said), else refused with the file set aside.
+ */
+static int restore_match(const struct sw_opts *o, struct sw_env *env, const char *path,
+			 const uint8_t *buf, size_t len, const struct sw_file *f,
+			 const struct sw_chip_info *chip, struct sw_err *e)
+{
+	char detail[160], aside[4400];
+	enum sw_file_check c;
+
+	c = sw_file_match_chip(f, chip, detail, sizeof(detail));
+	if (c == SW_CHECK_OK)
+		return SW_EXIT_OK;
+	if (!o->force) {
+		set_aside(o, env, path, buf, len, aside, sizeof(aside));
+		return sw_err_set(e, SW_EXIT_FILE,
+				  "%s: refused: %s (%s): saved on another chip or firmware; the chip was not touched (--force restores anyway)%s",
+				  path, sw_check_name(c), detail, aside);
+	}
+	sw_note(env, "warning: %s: %s (%s); restoring anyway (--force)",
+		path, sw_check_name(c), detail);
+	return SW_EXIT_OK;
+}
+
+/*
+ * Write the file's blob. A driver that checks the identity itself
+ * (checks_identity) is given the file's and refuses another chip's or
+ * firmware's: only then is the chip's read (one more read of the blob),
+ * to say which, and with --force the blob is written as the chip's.
+ * f->chip becomes the identity written.
+ */
+static int restore_write(struct sw_backend *b, const struct sw_opts *o,
+			 struct sw_env *env, const char *path,
+			 const uint8_t *buf, size_t len, struct sw_file *f,
+			 struct sw_err *e)
+{
+	struct sw_chip_info chip;
+	struct sw_err we;
+	int ret;
+
+	sw_err_clear(&we);
+	ret = b->ops->write_blob(b, &f->chip, f->payload, &we);
+	if (ret != SW_EXIT_FILE || !b->checks_identity)
+		return ret ? sw_err_set(e, ret, "%s", we.msg) : SW_EXIT_OK;
+	ret = b->ops->chip_info(b, &chip, e);
+	ret = ret ? ret : restore_match(o, env, path, buf, len, f, &chip, e);
+	if (ret)
+		return ret;
+	/* The tool's check passed (it leaves RevisionID out) or --force */
+	if (!memcmp(&chip, &f->chip, sizeof(chip)))
+		return sw_err_set(e, SW_EXIT_FILE, "%s", we.msg);
+	f->chip = chip;
+	return b->ops->write_blob(b, &f->chip, f->payload, e);
+}
+
 int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 		   struct sw_env *env, struct sw_err *e)
 {
@@ -801,20 +857,17 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 				  "%s: refused: %s (%s); the chip was not touched%s",
 				  path, sw_check_name(c), detail, aside);
 	}
-	ret = b->ops->chip_info(b, &chip, e);
-	if (ret)
-		return ret;
-	c = sw_file_match_chip(&f, &chip, detail, sizeof(detail));
-	if (c != SW_CHECK_OK) {
-		if (!o->force) {
-			set_aside(o, env, path, buf, len, aside, sizeof(aside));
-			return sw_err_set(e, SW_EXIT_FILE,
-					  "%s: refused: %s (%s); the chip was not touched (--force restores anyway)%s",
-					  path, sw_check_name(c), detail, aside);
-		}
-		sw_note(env, "warning: %s: %s (%s); restoring anyway (--force)",
-			path, sw_check_name(c), detail);
-	} else if (restored_at_probe(b, o, &f)) {
+	/* A driver that checks the identity does it in the write below */
+	if (!b->checks_identity) {
+		ret = b->ops->chip_info(b, &chip, e);
+		if (ret)
+			return ret;
+		c = sw_file_match_chip(&f, &chip, detail, sizeof(detail));
+		ret = restore_match(o, env, path, buf, len, &f, &chip, e);
+		if (ret)
+			return ret;
+	}
+	if (c == SW_CHECK_OK && restored_at_probe(b, o, &f)) {
 		sw_note(env, "%s: already restored at probe: it holds the calibration of %s (parameters %d-%d and %d-%d within %.1f %%); nothing written",
 			b->name, path, SW_PARAM_MAG_FIRST, SW_PARAM_MAG_LAST,
 			SW_PARAM_ACCEL_X, SW_PARAM_ACCEL_X + 2,
@@ -822,7 +875,7 @@ int sw_cmd_restore(struct sw_backend *b, const struct sw_opts *o,
 		restore_caldata(b, o, env, path, buf, len, &f);
 		return SW_EXIT_OK;
 	}
-	ret = b->ops->write_blob(b, f.payload, e);
+	ret = restore_write(b, o, env, path, buf, len, &f, e);
 	if (ret)
 		return ret;
 
@@ -965,10 +1018,12 @@ enum restored {
 
 /*
  * Compare the chip's parameters 18..23 and 27..29 with the file's, within
- * the tolerance: one read of the blob. what says why, for the text.
+ * the tolerance: one read of the blob, unless status read it (chip).
+ * what says why, for the text.
  */
 static enum restored status_restored(struct sw_backend *b,
-				     const struct sw_file *f, char *what,
+				     const struct sw_file *f,
+				     const uint8_t *chip, char *what,
 				     size_t len)
 {
 	uint8_t blob[SW_BLOB_SIZE];
@@ -976,7 +1031,9 @@ static enum restored status_restored(struct sw_backend *b,
 	int n;
 
 	sw_err_clear(&re);
-	if (b->ops->read_blob(b, blob, &re)) {
+	if (chip)
+		memcpy(blob, chip, sizeof(blob));
+	else if (b->ops->read_blob(b, blob, &re)) {
 		snprintf(what, len, "unknown (%s)", re.msg);
 		return RESTORED_UNKNOWN;
 	}
@@ -1001,6 +1058,9 @@ struct status {
 	struct sw_chip_info chip;
 	bool have_chip;
 	struct sw_err chip_err;
+	/* the blob, when the identity came with it (checks_identity) */
+	uint8_t blob[SW_BLOB_SIZE];
+	bool have_blob;
 	struct sw_hub_info hub;
 	bool have_hub;
 	struct sw_err hub_err;
@@ -1158,7 +1218,14 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 	if (ret)
 		goto out;
 	sw_err_clear(&st->chip_err);
-	st->have_chip = b->ops->chip_info(b, &st->chip, &st->chip_err) ==
+	/*
+	 * Where the identity is in the blob's header, one read of the blob
+	 * serves the identity and the comparison with the saved file.
+	 */
+	if (b->checks_identity)
+		st->have_blob = !b->ops->read_blob(b, st->blob, &st->chip_err);
+	st->have_chip = (!b->checks_identity || st->have_blob) &&
+			b->ops->chip_info(b, &st->chip, &st->chip_err) ==
 			SW_EXIT_OK;
 	sw_err_clear(&st->hub_err);
 	st->have_hub = b->ops->hub_info(b, &st->hub, &st->hub_err) ==
@@ -1168,7 +1235,9 @@ int sw_cmd_status(struct sw_backend *b, const struct sw_opts *o,
 		goto out;
 	/* Only a file made for this chip can have been restored into it. */
 	if (st->have_file && st->have_chip)
-		st->restored = status_restored(b, &st->f, st->restored_what,
+		st->restored = status_restored(b, &st->f,
+					       st->have_blob ? st->blob : NULL,
+					       st->restored_what,
 					       sizeof(st->restored_what));
 	else
 		snprintf(st->restored_what, sizeof(st->restored_what),

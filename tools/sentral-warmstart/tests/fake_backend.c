@@ -27,6 +27,7 @@ static int f_chip_info(struct sw_backend *b, struct sw_chip_info *ci,
 		return e->code;
 	if (f->on_chip_info)
 		f->on_chip_info(f);
+	f->chip_infos++;
 	*ci = f->chip;
 	return SW_EXIT_OK;
 }
@@ -104,14 +105,18 @@ static int f_read_blob(struct sw_backend *b, uint8_t *blob, struct sw_err *e)
 	return SW_EXIT_OK;
 }
 
-static int f_write_blob(struct sw_backend *b, const uint8_t *blob,
-			struct sw_err *e)
+static int f_write_blob(struct sw_backend *b, const struct sw_chip_info *chip,
+			const uint8_t *blob, struct sw_err *e)
 {
 	struct fake_be *f = to_fake(b);
 	int k;
 
 	if (f->fail_write)
 		return sw_err_set(e, f->fail_write, "fake: write failed");
+	/* As the driver checks calibration_data's header: all of it */
+	if (b->checks_identity && memcmp(chip, &f->chip, sizeof(*chip)))
+		return sw_err_set(e, SW_EXIT_FILE,
+				  "fake: the driver refused the calibration: saved on another chip or firmware");
 	f->writes++;
 	clear_flags(f);
 	memcpy(f->blob, blob, SW_BLOB_SIZE);

@@ -69,6 +69,7 @@ struct fake_be {
 	int hub_fail;
 	/* called at each chip_info (the save policy's first look) */
 	void (*on_chip_info)(struct fake_be *f);
+	unsigned int chip_infos;	/* chip_info calls */
 	void *data;		/* the hook's */
 };
 

@@ -36,8 +36,7 @@ static bool has(const char *attr, void *ctx)
 
 /* The driver of this release on firmware with the score, as sysfs shows it. */
 static const char *const current[] = {
-	"calibration_data", "product_id", "revision_id", "rom_version",
-	"ram_version", "in_magn_calibration_auto_status",
+	"calibration_data", "in_magn_calibration_auto_status",
 	"in_magn_calibration_score",
 	"in_anglvel_calibration_update", "in_magn_calibration_update",
 	"in_accel_x_raw", "in_accel_y_raw", "in_accel_z_raw",
@@ -48,12 +47,24 @@ static const char *const current[] = {
 
 /* The same driver on any other firmware (a USFS board's): the level only. */
 static const char *const level_only[] = {
+	"calibration_data", "in_magn_calibration_auto_status",
+	"in_accel_x_raw", "in_accel_y_raw", "in_accel_z_raw",
+	"in_accel_x_calibbias", "in_accel_y_calibbias", "in_accel_z_calibbias",
+	"in_magn_x_raw", "in_magn_y_raw", "in_magn_z_raw", "in_magn_scale",
+	"in_pressure_raw", "in_temp_raw", NULL,
+};
+
+/*
+ * The driver before calibration_data's identity header: the identity and
+ * firmware_source as attributes, the level on every firmware.
+ */
+static const char *const identity_attrs[] = {
 	"calibration_data", "product_id", "revision_id", "rom_version",
 	"ram_version", "firmware_source", "in_magn_calibration_auto_status",
 	"in_accel_x_raw", "in_accel_y_raw", "in_accel_z_raw",
 	"in_accel_x_calibbias", "in_accel_y_calibbias", "in_accel_z_calibbias",
 	"in_magn_x_raw", "in_magn_y_raw", "in_magn_z_raw", "in_magn_scale",
-	"in_pressure_raw", "in_temp_raw", NULL,
+	NULL,
 };
 
 /* The driver of 1.1.0: the application note's status 0..3, transient. */
@@ -108,6 +119,8 @@ static void test_current(void **state)
 	assert_int_equal(check(current, NULL, NULL, &e), SW_EXIT_OK);
 	assert_string_equal(e.msg, "");
 	assert_int_equal(check(level_only, NULL, NULL, &e), SW_EXIT_OK);
+	/* The backend reads that one's identity attributes and bare blob */
+	assert_int_equal(check(identity_attrs, NULL, NULL, &e), SW_EXIT_OK);
 	assert_string_equal(e.msg, "");
 	/* firmware_source and the feature sensors are optional */
 	assert_int_equal(check(level_only, "firmware_source", NULL, &e),

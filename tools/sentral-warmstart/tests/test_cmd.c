@@ -16,6 +16,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 
+#include "caldata.h"
 #include "fake_backend.h"
 #include "wsfile.h"
 
@@ -313,6 +314,74 @@ static void test_restore_chip_mismatch(void **state)
 	assert_int_equal(restore(c), SW_EXIT_OK);
 	assert_int_equal(c->fb.writes, 1);
 	assert_non_null(strstr(out_text(c), "restoring anyway"));
+}
+
+/*
+ * A driver with the identity in calibration_data's header checks it
+ * itself: restore writes the file's identity and asks the chip's only
+ * when the driver refused, to say which differs; the chip untouched and
+ * the file set aside, or with --force written as the chip's.
+ */
+static void test_restore_driver_checks_identity(void **state)
+{
+	struct ctx *c = *state;
+	uint8_t saved[SW_BLOB_SIZE];
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	memcpy(saved, c->fb.blob, SW_BLOB_SIZE);
+	memset(c->fb.blob, 0, SW_BLOB_SIZE);
+	c->fb.b.checks_identity = true;
+	c->fb.chip_infos = 0;
+	c->fb.reads = 0;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 1);
+	assert_memory_equal(c->fb.blob, saved, SW_BLOB_SIZE);
+	assert_int_equal(c->fb.chip_infos, 0);
+	assert_int_equal(c->fb.reads, 0);
+
+	/* Another firmware since the save; RevisionID alone is no mismatch */
+	memset(c->fb.blob, 0, SW_BLOB_SIZE);
+	c->fb.chip.ram_version = 0x0c06;
+	assert_int_equal(restore(c), SW_EXIT_FILE);
+	assert_int_equal(c->fb.writes, 1);
+	assert_int_equal(c->fb.chip_infos, 1);
+	assert_non_null(strstr(c->e.msg, "RAM version mismatch (file 0x0c05, chip 0x0c06): saved on another chip or firmware; the chip was not touched (--force restores anyway); moved aside to "));
+	unrefuse(c);
+	c->fb.chip.ram_version = 0x0c05;
+	c->fb.chip.revision_id ^= 1;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 2);
+	assert_memory_equal(c->fb.blob, saved, SW_BLOB_SIZE);
+
+	c->fb.chip.rom_version = 0x07a8;
+	c->o.force = true;
+	assert_int_equal(restore(c), SW_EXIT_OK);
+	assert_int_equal(c->fb.writes, 3);
+	assert_non_null(strstr(out_text(c), "ROM version mismatch (file 0x09e6, chip 0x07a8); restoring anyway (--force)"));
+}
+
+/*
+ * status with such a driver: one read of the blob gives the identity and
+ * the comparison with the saved file, as one read gave the comparison.
+ */
+static void test_status_identity_from_blob(void **state)
+{
+	struct ctx *c = *state;
+
+	assert_int_equal(save(c), SW_EXIT_OK);
+	c->fb.b.checks_identity = true;
+	c->fb.reads = 0;
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_int_equal(c->fb.reads, 1);
+	assert_non_null(strstr(out_text(c), "chip:                ProductID 0x80, RevisionID 0x02, ROM 0x09e6, RAM 0x0c05\n"));
+	assert_non_null(strstr(out_text(c), "restored:            yes: "));
+
+	c->fb.fail_read = SW_EXIT_IO;
+	assert_int_equal(sw_cmd_status(&c->fb.b, &c->o, &c->env, &c->e),
+			 SW_EXIT_OK);
+	assert_non_null(strstr(out_text(c), "chip:                unknown (fake: read failed)\n"));
+	assert_non_null(strstr(out_text(c), "restored:            unknown (fake: read failed)\n"));
 }
 
 static void test_restore_not_calibrated_after(void **state)
@@ -2208,20 +2277,23 @@ static void fw_path(struct ctx *c, const char *name, char *out, size_t len)
 }
 
 /* Does the driver's file NAME hold exactly blob? */
-static bool caldata_holds(struct ctx *c, const char *name, const uint8_t *blob)
+/* The driver's file holds payload as the chip's blob: the fake's identity */
+static bool caldata_holds(struct ctx *c, const char *name,
+			  const uint8_t *payload)
 {
-	uint8_t buf[SW_BLOB_SIZE + 1];
+	uint8_t buf[SW_CALDATA_SIZE + 1], want[SW_CALDATA_SIZE];
 	char path[256];
 	ssize_t n;
 	int fd;
 
+	sw_caldata_encode(&c->fb.chip, payload, want);
 	fw_path(c, name, path, sizeof(path));
 	fd = open(path, O_RDONLY | O_NOFOLLOW);
 	if (fd < 0)
 		return false;
 	n = read(fd, buf, sizeof(buf));
 	close(fd);
-	return n == SW_BLOB_SIZE && !memcmp(buf, blob, SW_BLOB_SIZE);
+	return n == SW_CALDATA_SIZE && !memcmp(buf, want, SW_CALDATA_SIZE);
 }
 
 static bool fw_exists(struct ctx *c, const char *name)
@@ -2262,13 +2334,14 @@ static int fw_count(struct ctx *c)
 	return n;
 }
 
-#define CALDATA "caldata-09e6-0c05-1-0028.bin"
+#define CALDATA "caldata-1-0028.bin"
 
 /*
  * Every save also writes the file the driver restores at probe: the saved
- * file's payload, named by ROM, RAM and the I2C client, 0600 in a 0700
- * directory; the files of the same client for other firmware go, other
- * clients' and other names stay.
+ * file's payload behind the chip's identity, named by the I2C client, 0600
+ * in a 0700 directory; the files of the same client that drivers before
+ * 1.2.0 read (named by ROM and RAM versions too) go, other clients' and
+ * other names stay.
  */
 static void test_caldata_on_save(void **state)
 {
@@ -2288,8 +2361,12 @@ static void test_caldata_on_save(void **state)
 	assert_int_equal(st.st_mode & 0777, 0700);
 	assert_int_equal(fw_count(c), 1);
 
-	/* A firmware update (RAM 0x0c06), then a better calibration. */
+	/*
+	 * A firmware update (RAM 0x0c06), then a better calibration, the
+	 * files of an older driver left.
+	 */
 	fw_touch(c, "caldata-09e6-0c04-1-0028.bin");
+	fw_touch(c, "caldata-09e6-0c05-1-0028.bin");
 	fw_touch(c, "caldata-07a8-0c05-1-0028.bin");
 	fw_touch(c, "caldata-09e6-0c05-11-0028.bin");
 	fw_touch(c, "caldata-09e6-0c05-1-0028.bin.orig");
@@ -2304,9 +2381,10 @@ static void test_caldata_on_save(void **state)
 	sw_blob_set_param(c->fb.blob, 18, 42.0f);
 	assert_int_equal(save(c), SW_EXIT_OK);
 	assert_true(load(c, &f));
-	assert_true(caldata_holds(c, "caldata-09e6-0c06-1-0028.bin", f.payload));
-	assert_false(fw_exists(c, CALDATA));
+	assert_true(caldata_holds(c, CALDATA, f.payload));
+	assert_false(fw_exists(c, "caldata-09e6-0c06-1-0028.bin"));
 	assert_false(fw_exists(c, "caldata-09e6-0c04-1-0028.bin"));
+	assert_false(fw_exists(c, "caldata-09e6-0c05-1-0028.bin"));
 	assert_false(fw_exists(c, "caldata-07a8-0c05-1-0028.bin"));
 	assert_false(fw_exists(c, "caldata-09e6-0c03-1-0028.bin"));
 	assert_int_equal(access(target, F_OK), 0);
@@ -2315,6 +2393,33 @@ static void test_caldata_on_save(void **state)
 	assert_true(fw_exists(c, "caldata-9e6-0c05-1-0028.bin"));
 	assert_true(fw_exists(c, "caldata-09E6-0c05-1-0028.bin"));
 	assert_int_equal(fw_count(c), 5);
+}
+
+/*
+ * calibration_data's header: format 1, ProductID, RevisionID, 0, ROM and
+ * RAM versions little-endian, then the payload; another format or a
+ * reserved byte set is no blob this tool knows.
+ */
+static void test_caldata_header(void **state)
+{
+	static const uint8_t hdr[SW_CALDATA_HDR_SIZE] = {
+		1, 0x80, 0x02, 0, 0xe6, 0x09, 0x05, 0x0c,
+	};
+	struct ctx *c = *state;
+	uint8_t blob[SW_CALDATA_SIZE], payload[SW_BLOB_SIZE];
+	struct sw_chip_info chip;
+
+	sw_caldata_encode(&c->fb.chip, c->fb.blob, blob);
+	assert_memory_equal(blob, hdr, sizeof(hdr));
+	assert_memory_equal(&blob[SW_CALDATA_HDR_SIZE], c->fb.blob, SW_BLOB_SIZE);
+	assert_true(sw_caldata_decode(blob, &chip, payload));
+	assert_memory_equal(&chip, &c->fb.chip, sizeof(chip));
+	assert_memory_equal(payload, c->fb.blob, SW_BLOB_SIZE);
+	blob[0] = 2;
+	assert_false(sw_caldata_decode(blob, &chip, payload));
+	blob[0] = 1;
+	blob[3] = 1;
+	assert_false(sw_caldata_decode(blob, &chip, payload));
 }
 
 /*
@@ -2563,6 +2668,8 @@ int main(void)
 		T(test_save_nonfinite_blob),
 		T(test_save_refuses_symlink),
 		T(test_restore_good),
+		T(test_restore_driver_checks_identity),
+		T(test_status_identity_from_blob),
 		T(test_restore_missing),
 		T(test_restore_refuses_bad_files),
 		T(test_restore_chip_mismatch),
@@ -2615,6 +2722,7 @@ int main(void)
 		T(test_watch_stable_save_retried),
 		T(test_watch_stable_look_retried),
 		T(test_watch_idle_reads_level),
+		T(test_caldata_header),
 		T(test_caldata_on_save),
 		T(test_caldata_stale_temp),
 		T(test_caldata_follows_file),
