@@ -222,7 +222,7 @@ static int em7180_cal_refresh(struct em7180_data *data)
 	if (ret)
 		return ret;
 
-	em7180_status_seen(data, regs[0]);
+	em7180_status_seen(data, regs[0]); /* upstream: health */
 	/* A glitch is not a state: not kept either */
 	if (regs[1] & EM7180_ALGO_STATUS_RESERVED)
 		return -EIO;

@@ -311,21 +311,28 @@ static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 			      bool *started)
 {
 	u8 regs[EM7180_ACK_CAL_LEN];
+	/* upstream: cal { */
 	u8 *cal = &regs[EM7180_REG_CAL_STATUS - EM7180_REG_PARAM_ACK];
 	bool stops = data->ptr_stops;
 	bool flags = data->appnote;
+	/* upstream: } */
 	u32 dummy;
 	int ret;
 
+	/* upstream: cal { */
 	ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, regs,
 			       stops || !flags ? 1 : sizeof(regs));
 	if (!ret && stops && flags)
 		ret = regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, cal,
 				       EM7180_CAL_BLOCK_LEN);
+	/* upstream: } */
+	ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, regs, 1); /* upstream: !cal */
 	if (ret)
 		return ret;
+	/* upstream: cal { */
 	if (flags)
 		em7180_cal_update(data, cal);
+	/* upstream: } */
 	if (regs[0] != first_req)
 		return 0;
 
@@ -348,11 +355,13 @@ static int em7180_param_end(struct em7180_data *data)
 	 */
 	em7180_resumed(data);
 	ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+	/* upstream: health { */
 	/* Bit 7 would keep fusion paused: try again later, then reset */
 	if (ret2) {
 		data->xfer_stuck = true;
 		em7180_recover_schedule(data);
 	}
+	/* upstream: } */
 
 	return ret ?: ret2;
 }
