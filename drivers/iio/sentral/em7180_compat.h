@@ -53,12 +53,14 @@ static inline int em7180_resume_triggering(struct iio_dev *indio_dev)
 
 /*
  * sysfs passes binary attributes as const since 6.16: to the read and write
- * callbacks, and in an attribute group's list.
+ * callbacks, and in an attribute group's list, itself const.
  */
 #if KERNEL_VERSION(6, 16, 0) <= LINUX_VERSION_CODE
 #define em7180_bin_attribute	const struct bin_attribute
+#define em7180_bin_attr_const	const
 #else
 #define em7180_bin_attribute	struct bin_attribute
+#define em7180_bin_attr_const
 #endif
 
 /* Symbol namespaces are string literals since 6.13 (commit cdd30ebb1b9f) */

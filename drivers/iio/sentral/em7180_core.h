@@ -77,6 +77,29 @@
 #define EM7180_WS_SIZE			(EM7180_WS_NUM_PARAMS * 4)
 
 /*
+ * calibration_data, and the file restored at probe: the chip and firmware
+ * the warm start was read from, then parameters 1..35 as float32. A warm
+ * start suits only the firmware that wrote it.
+ */
+#define EM7180_CALDATA_FORMAT		1
+
+struct em7180_caldata_id {
+	u8 format;
+	u8 product_id;
+	u8 revision_id;
+	u8 reserved;
+	__le16 rom_version;
+	__le16 ram_version;
+} __packed;
+
+struct em7180_caldata {
+	struct em7180_caldata_id id;
+	__le32 params[EM7180_WS_NUM_PARAMS];
+} __packed;
+
+#define EM7180_CALDATA_SIZE		sizeof(struct em7180_caldata)
+
+/*
  * Quaternion, magnetometer, accelerometer, gyroscope, each with its TIME,
  * then the feature sensors' data and TIME
  */
@@ -202,14 +225,18 @@ int em7180_read_calibbias(struct em7180_data *data, unsigned int axis,
 int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
 			   int val);
 
+/* em7180_id_line(): "ProductID 0x80 RevisionID 0x02 ROM 0x... RAM 0x... eeprom" */
+#define EM7180_ID_LINE_LEN		64
+void em7180_id_line(struct em7180_data *data, char *buf, size_t len);
 int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 			   bool write);
 int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 			     loff_t off, size_t count);
 #if IS_ENABLED(CONFIG_KUNIT)
-int em7180_warmstart_read(struct em7180_data *data, u8 *buf);
+int em7180_warmstart_read(struct em7180_data *data,
+			  struct em7180_caldata *cal);
 int em7180_caldata_apply(struct em7180_data *data, const u8 *blob,
-			 size_t size);
+			 size_t size, const char *name);
 #endif
 
 /* Attribute address: enum em7180_cal_attr */

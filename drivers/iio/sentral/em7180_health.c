@@ -244,10 +244,26 @@ static int em7180_recovery_show(struct seq_file *m, void *unused)
 }
 DEFINE_SHOW_ATTRIBUTE(em7180_recovery);
 
+/* The chip and firmware running, which a recovery may have changed */
+static int em7180_firmware_version_show(struct seq_file *m, void *unused)
+{
+	char id[EM7180_ID_LINE_LEN];
+
+	scoped_guard(em7180, m->private)
+		em7180_id_line(m->private, id, sizeof(id));
+	seq_printf(m, "%s\n", id);
+	return 0;
+}
+DEFINE_SHOW_ATTRIBUTE(em7180_firmware_version);
+
 void em7180_health_debugfs(struct iio_dev *indio_dev)
 {
-	debugfs_create_file("recovery", 0400, iio_get_debugfs_dentry(indio_dev),
-			    iio_priv(indio_dev), &em7180_recovery_fops);
+	struct dentry *dir = iio_get_debugfs_dentry(indio_dev);
+
+	debugfs_create_file("recovery", 0400, dir, iio_priv(indio_dev),
+			    &em7180_recovery_fops);
+	debugfs_create_file("firmware_version", 0400, dir, iio_priv(indio_dev),
+			    &em7180_firmware_version_fops);
 }
 
 /* ErrorRegister values that the reference hosts decode */

@@ -817,6 +817,18 @@ static void em7180_test_score(struct kunit *test)
 				    cases[i].milli, "raw 0x%04x", cases[i].raw);
 }
 
+/* The header of a blob read from ProductID 0x80 RevisionID 0x02 ROM 0x09E6 RAM 0x0D17 */
+static const u8 test_caldata_id[] = { 1, 0x80, 0x02, 0, 0xE6, 0x09, 0x17, 0x0D };
+
+/* The driver holds the identity test_caldata_id has */
+static void test_identity(struct em7180_data *data)
+{
+	data->product_id = 0x80;
+	data->revision_id = 0x02;
+	data->rom_version = 0x09E6;
+	data->ram_version = 0x0D17;
+}
+
 static void em7180_test_warmstart_check(struct kunit *test)
 {
 	static const u32 bad[] = {
@@ -829,51 +841,55 @@ static void em7180_test_warmstart_check(struct kunit *test)
 	blob = kunit_kzalloc(test, 256, GFP_KERNEL);
 	KUNIT_ASSERT_NOT_NULL(test, blob);
 
+	KUNIT_EXPECT_EQ(test, EM7180_CALDATA_SIZE, 148);
 	for (size = 0; size <= 200; size++) {
 		KUNIT_EXPECT_EQ_MSG(test, em7180_warmstart_check(blob, 0, size, true),
-				    size == EM7180_WS_SIZE ? 0 : -EINVAL,
+				    size == EM7180_CALDATA_SIZE ? 0 : -EINVAL,
 				    "write of %zu bytes", size);
 		KUNIT_EXPECT_EQ_MSG(test, em7180_warmstart_check(NULL, 0, size, false),
-				    size >= EM7180_WS_SIZE ? 0 : -EINVAL,
+				    size >= EM7180_CALDATA_SIZE ? 0 : -EINVAL,
 				    "read of %zu bytes", size);
 	}
 
-	for (p = 1; p <= EM7180_WS_SIZE; p += 19) {
-		KUNIT_EXPECT_EQ(test, em7180_warmstart_check(blob, p, EM7180_WS_SIZE, true),
+	for (p = 1; p <= EM7180_CALDATA_SIZE; p += 19) {
+		KUNIT_EXPECT_EQ(test, em7180_warmstart_check(blob, p, EM7180_CALDATA_SIZE, true),
 				-EINVAL);
-		KUNIT_EXPECT_EQ(test, em7180_warmstart_check(NULL, p, EM7180_WS_SIZE, false),
+		KUNIT_EXPECT_EQ(test, em7180_warmstart_check(NULL, p, EM7180_CALDATA_SIZE, false),
 				-EINVAL);
 	}
 
-	/* Largest finite, subnormal, -0 and 1.0 are all fine */
-	put_unaligned_le32(0x7F7FFFFF, &blob[0]);
-	put_unaligned_le32(0x00000001, &blob[4]);
-	put_unaligned_le32(0x80000000, &blob[8]);
-	put_unaligned_le32(0x3F800000, &blob[136]);
-	KUNIT_EXPECT_EQ(test, em7180_warmstart_check(blob, 0, EM7180_WS_SIZE, true), 0);
+	/* Largest finite, subnormal, -0 and 1.0 are all fine; the header any */
+	memset(blob, 0xFF, sizeof(struct em7180_caldata_id));
+	put_unaligned_le32(0x7F7FFFFF, &blob[8]);
+	put_unaligned_le32(0x00000001, &blob[12]);
+	put_unaligned_le32(0x80000000, &blob[16]);
+	put_unaligned_le32(0x3F800000, &blob[144]);
+	size = EM7180_CALDATA_SIZE;
+	KUNIT_EXPECT_EQ(test, em7180_warmstart_check(blob, 0, size, true), 0);
 
 	for (p = 0; p < EM7180_WS_NUM_PARAMS; p++) {
 		for (i = 0; i < ARRAY_SIZE(bad); i++) {
-			u32 old = get_unaligned_le32(&blob[4 * p]);
+			u32 old = get_unaligned_le32(&blob[8 + 4 * p]);
 
-			put_unaligned_le32(bad[i], &blob[4 * p]);
+			put_unaligned_le32(bad[i], &blob[8 + 4 * p]);
 			KUNIT_EXPECT_EQ_MSG(test,
-					    em7180_warmstart_check(blob, 0, EM7180_WS_SIZE, true),
+					    em7180_warmstart_check(blob, 0, size, true),
 					    -EINVAL, "param %u = 0x%08x", p + 1, bad[i]);
-			put_unaligned_le32(old, &blob[4 * p]);
+			put_unaligned_le32(old, &blob[8 + 4 * p]);
 		}
 	}
 }
 
 #define WS_FUZZ_SEED		0x7180
 #define WS_FUZZ_ROUNDS		400
-#define WS_FUZZ_BUF		(2 * EM7180_WS_SIZE + 64)
+#define WS_FUZZ_BUF		(2 * EM7180_CALDATA_SIZE + 64)
 
 enum ws_fuzz_kind {
 	WS_FUZZ_VALID,
 	WS_FUZZ_SIZE,
 	WS_FUZZ_OFFSET,
 	WS_FUZZ_NOT_FINITE,
+	WS_FUZZ_IDENTITY,
 	WS_FUZZ_KINDS
 };
 
@@ -904,9 +920,10 @@ static u32 ws_fuzz_not_finite(struct rnd_state *rnd)
 
 /*
  * The warmstart write path with a fixed-seed sequence of blobs: valid ones,
- * wrong sizes, wrong offsets and non-finite values. A refused write must
- * not reach the bus at all; an accepted one must leave exactly the blob in
- * parameters 1..35 and the chip out of transfer mode.
+ * wrong sizes, wrong offsets, non-finite values and another chip's or
+ * firmware's header. A refused write must not reach the bus at all; an
+ * accepted one must leave exactly the blob in parameters 1..35 and the
+ * chip out of transfer mode.
  */
 static void em7180_test_warmstart_fuzz(struct kunit *test)
 {
@@ -932,30 +949,32 @@ static void em7180_test_warmstart_fuzz(struct kunit *test)
 	data = iio_priv(indio_dev);
 	data->dev = t->dev;
 	data->regmap = t->data->regmap;
+	test_identity(data);
 	mutex_init(&data->lock);
 
 	prandom_seed_state(&rnd, WS_FUZZ_SEED);
 	for (round = 0; round < WS_FUZZ_ROUNDS; round++) {
 		kind = prandom_u32_state(&rnd) % WS_FUZZ_KINDS;
 		kinds[kind]++;
-		count = EM7180_WS_SIZE;
+		count = EM7180_CALDATA_SIZE;
 		off = 0;
 		for (i = 0; i + 4 <= WS_FUZZ_BUF; i += 4)
 			put_unaligned_le32(ws_fuzz_finite(&rnd), &buf[i]);
+		memcpy(buf, test_caldata_id, sizeof(test_caldata_id));
 
 		switch (kind) {
 		case WS_FUZZ_SIZE:
 			/* Near the right size half of the time, else anywhere */
 			if (prandom_u32_state(&rnd) & 1)
-				count = EM7180_WS_SIZE - 8 +
+				count = EM7180_CALDATA_SIZE - 8 +
 					prandom_u32_state(&rnd) % 17;
 			else
 				count = prandom_u32_state(&rnd) % WS_FUZZ_BUF;
-			if (count == EM7180_WS_SIZE)
+			if (count == EM7180_CALDATA_SIZE)
 				count++;
 			break;
 		case WS_FUZZ_OFFSET:
-			off = 1 + prandom_u32_state(&rnd) % (4 * EM7180_WS_SIZE);
+			off = 1 + prandom_u32_state(&rnd) % (4 * EM7180_CALDATA_SIZE);
 			if (prandom_u32_state(&rnd) & 1)
 				count = 1 + prandom_u32_state(&rnd) %
 					    (WS_FUZZ_BUF - 1);
@@ -964,8 +983,13 @@ static void em7180_test_warmstart_fuzz(struct kunit *test)
 			n = 1 + prandom_u32_state(&rnd) % 3;
 			while (n--)
 				put_unaligned_le32(ws_fuzz_not_finite(&rnd),
-						   &buf[4 * (prandom_u32_state(&rnd) %
-							     EM7180_WS_NUM_PARAMS)]);
+						   &buf[8 + 4 * (prandom_u32_state(&rnd) %
+								 EM7180_WS_NUM_PARAMS)]);
+			break;
+		case WS_FUZZ_IDENTITY:
+			/* Any bit of the header, reserved byte included */
+			n = prandom_u32_state(&rnd) % (8 * sizeof(test_caldata_id));
+			buf[n / 8] ^= BIT(n % 8);
 			break;
 		default:
 			break;
@@ -994,7 +1018,7 @@ static void em7180_test_warmstart_fuzz(struct kunit *test)
 				    2 * EM7180_WS_NUM_PARAMS + 4, "round %u", round);
 		for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 			KUNIT_EXPECT_EQ_MSG(test, emu->params[i + 1],
-					    get_unaligned_le32(&buf[4 * i]),
+					    get_unaligned_le32(&buf[8 + 4 * i]),
 					    "round %u: parameter %u", round, i + 1);
 		KUNIT_EXPECT_TRUE_MSG(test,
 				      !memcmp(&before[EM7180_WS_NUM_PARAMS + 1],
@@ -1005,7 +1029,7 @@ static void em7180_test_warmstart_fuzz(struct kunit *test)
 		KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
 		KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_PARAM_REQ], 0);
 		KUNIT_EXPECT_TRUE(test, data->ws_valid &&
-				  !memcmp(data->ws, buf, EM7180_WS_SIZE));
+				  !memcmp(data->ws, &buf[8], EM7180_WS_SIZE));
 	}
 
 	/* The seed gives every kind of input a fair share */
@@ -1036,8 +1060,7 @@ static void test_configure(struct kunit *test, struct em7180_test *t)
 		t->emu.params[i + 1] = 0x3F800000 + i;
 	}
 	t->data->ws_valid = true;
-	t->data->rom_version = 0x09E6;
-	t->data->ram_version = 0x0D17;
+	test_identity(t->data);
 	/* Running: upload done, CPU executing */
 	t->emu.regs[EM7180_REG_SENTRAL_STATUS] = 0x03;
 }
@@ -1396,7 +1419,7 @@ static void em7180_test_ws_read_nonfinite(struct kunit *test)
 				   0xFFFFFFFF };
 	struct em7180_test *t = test->priv;
 	struct em7180_emu *emu = &t->emu;
-	u8 buf[EM7180_WS_SIZE], ws[EM7180_WS_SIZE];
+	u8 buf[EM7180_CALDATA_SIZE], ws[EM7180_WS_SIZE];
 	unsigned int i, n;
 	int ret;
 
@@ -1408,7 +1431,7 @@ static void em7180_test_ws_read_nonfinite(struct kunit *test)
 		emu->n_log = 0;
 		memset(buf, 0xAA, sizeof(buf));
 		scoped_guard(mutex, &t->data->lock)
-			ret = em7180_warmstart_read(t->data, buf);
+			ret = em7180_warmstart_read(t->data, (void *)buf);
 		KUNIT_EXPECT_EQ_MSG(test, ret, -EIO, "0x%08x", bad[i]);
 		KUNIT_EXPECT_NULL(test, memchr_inv(buf, 0xAA, sizeof(buf)));
 		KUNIT_EXPECT_TRUE(test, t->data->ws_valid);
@@ -1419,11 +1442,11 @@ static void em7180_test_ws_read_nonfinite(struct kunit *test)
 
 	emu->params[35] = 0x80000001;	/* -0 and subnormals are finite */
 	scoped_guard(mutex, &t->data->lock)
-		ret = em7180_warmstart_read(t->data, buf);
+		ret = em7180_warmstart_read(t->data, (void *)buf);
 	KUNIT_ASSERT_EQ(test, ret, 0);
 	KUNIT_EXPECT_EQ(test, em7180_warmstart_check(buf, 0, sizeof(buf), true), 0);
-	KUNIT_EXPECT_EQ(test, get_unaligned_le32(&buf[4 * 34]), 0x80000001U);
-	KUNIT_EXPECT_EQ(test, memcmp(t->data->ws, buf, sizeof(buf)), 0);
+	KUNIT_EXPECT_EQ(test, get_unaligned_le32(&buf[8 + 4 * 34]), 0x80000001U);
+	KUNIT_EXPECT_EQ(test, memcmp(t->data->ws, &buf[8], EM7180_WS_SIZE), 0);
 }
 
 static void em7180_test_pm_no_power_loss(struct kunit *test)
@@ -1449,19 +1472,24 @@ static int test_caldata_apply(struct em7180_test *t, const u8 *blob,
 			      size_t size)
 {
 	guard(mutex)(&t->data->lock);
-	return em7180_caldata_apply(t->data, blob, size);
+	return em7180_caldata_apply(t->data, blob, size, "caldata-kunit.bin");
 }
 
-/* A saved blob: parameter n is 2.0 + n, Table 1's offsets in 27..29 */
-static void test_caldata_blob(u8 *blob)
+/*
+ * A saved blob of the chip the driver holds: parameter n is 2.0 + n,
+ * Table 1's offsets in 27..29
+ */
+static void test_caldata_blob(struct em7180_test *t, u8 *blob)
 {
 	static const u32 table1[] = { 0xBCBBE447, 0xBBEFDC9C, 0x3CB7E4DE };
 	unsigned int i;
 
+	test_identity(t->data);
+	memcpy(blob, test_caldata_id, sizeof(test_caldata_id));
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
-		put_unaligned_le32(0x40000000 + i, &blob[4 * i]);
+		put_unaligned_le32(0x40000000 + i, &blob[8 + 4 * i]);
 	for (i = 0; i < ARRAY_SIZE(table1); i++)
-		put_unaligned_le32(table1[i], &blob[4 * (26 + i)]);
+		put_unaligned_le32(table1[i], &blob[8 + 4 * (26 + i)]);
 }
 
 /*
@@ -1475,13 +1503,13 @@ static void em7180_test_caldata_apply(struct kunit *test)
 	struct em7180_test *t = test->priv;
 	struct em7180_emu *emu = &t->emu;
 	u32 vals[EM7180_WS_NUM_PARAMS];
-	u8 blob[EM7180_WS_SIZE];
+	u8 blob[EM7180_CALDATA_SIZE];
 	unsigned int i;
 	int val;
 
-	test_caldata_blob(blob);
+	test_caldata_blob(t, blob);
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
-		vals[i] = get_unaligned_le32(&blob[4 * i]);
+		vals[i] = get_unaligned_le32(&blob[8 + 4 * i]);
 	t->data->cal.flags = EM7180_CAL_FLAG_MAG_UPDATE;
 	t->data->cal.valid = true;
 
@@ -1494,7 +1522,7 @@ static void em7180_test_caldata_apply(struct kunit *test)
 	expect_ended(test, emu);
 
 	KUNIT_EXPECT_TRUE(test, t->data->ws_valid);
-	KUNIT_EXPECT_EQ(test, memcmp(t->data->ws, blob, sizeof(blob)), 0);
+	KUNIT_EXPECT_EQ(test, memcmp(t->data->ws, &blob[8], EM7180_WS_SIZE), 0);
 	KUNIT_EXPECT_EQ(test, t->data->cal.flags, 0);
 	KUNIT_EXPECT_FALSE(test, t->data->cal.valid);
 
@@ -1508,28 +1536,31 @@ static void em7180_test_caldata_apply(struct kunit *test)
 }
 
 /*
- * A file calibration_data would refuse (a size other than 140, a value
- * that is no finite float) is refused before the chip is touched.
+ * A file calibration_data would refuse (a size other than 148, a value
+ * that is no finite float) is refused before the chip is touched; the
+ * 140 bytes of the blob without its header too.
  */
 static void em7180_test_caldata_refused(struct kunit *test)
 {
-	static const size_t sizes[] = { 0, 4, EM7180_WS_SIZE - 1,
-					EM7180_WS_SIZE + 1, 2 * EM7180_WS_SIZE };
+	static const size_t sizes[] = { 0, 4, EM7180_WS_SIZE,
+					EM7180_CALDATA_SIZE - 1,
+					EM7180_CALDATA_SIZE + 1,
+					2 * EM7180_CALDATA_SIZE };
 	static const u32 bad[] = { 0x7FC00000, 0x7F800000, 0xFF800000 };
 	struct em7180_test *t = test->priv;
 	struct em7180_emu *emu = &t->emu;
-	u8 blob[2 * EM7180_WS_SIZE];
+	u8 blob[2 * EM7180_CALDATA_SIZE];
 	unsigned int i;
 
-	test_caldata_blob(blob);
-	test_caldata_blob(&blob[EM7180_WS_SIZE]);
+	test_caldata_blob(t, blob);
+	test_caldata_blob(t, &blob[EM7180_CALDATA_SIZE]);
 	for (i = 0; i < ARRAY_SIZE(sizes); i++)
 		KUNIT_EXPECT_EQ_MSG(test, test_caldata_apply(t, blob, sizes[i]),
 				    -EINVAL, "%zu bytes", sizes[i]);
 	for (i = 0; i < ARRAY_SIZE(bad); i++) {
-		test_caldata_blob(blob);
-		put_unaligned_le32(bad[i], &blob[4 * (11 * i + 4)]);
-		KUNIT_EXPECT_EQ_MSG(test, test_caldata_apply(t, blob, EM7180_WS_SIZE),
+		test_caldata_blob(t, blob);
+		put_unaligned_le32(bad[i], &blob[8 + 4 * (11 * i + 4)]);
+		KUNIT_EXPECT_EQ_MSG(test, test_caldata_apply(t, blob, EM7180_CALDATA_SIZE),
 				    -EINVAL, "0x%08x", bad[i]);
 	}
 	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
@@ -1546,10 +1577,10 @@ static void em7180_test_caldata_fails(struct kunit *test)
 {
 	struct em7180_test *t = test->priv;
 	struct em7180_emu *emu = &t->emu;
-	u8 blob[EM7180_WS_SIZE];
+	u8 blob[EM7180_CALDATA_SIZE];
 	int val;
 
-	test_caldata_blob(blob);
+	test_caldata_blob(t, blob);
 	emu->ack_never = true;
 	KUNIT_EXPECT_EQ(test, test_caldata_apply(t, blob, sizeof(blob)),
 			-ETIMEDOUT);
@@ -1568,6 +1599,85 @@ static void em7180_test_caldata_fails(struct kunit *test)
 	KUNIT_EXPECT_FALSE(test, t->data->ws_valid);
 	KUNIT_ASSERT_EQ(test, em7180_read_calibbias(t->data, 0, &val), 0);
 	KUNIT_EXPECT_EQ(test, val, 0);
+}
+
+/*
+ * Another chip's or firmware's blob, a byte of the header changed in turn
+ * (format, ProductID, RevisionID, the reserved byte, the ROM and RAM
+ * versions): neither the file at probe nor a calibration_data write is
+ * applied, and neither reaches the bus. Probe then reads the offsets.
+ */
+static void em7180_test_caldata_identity(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u8 blob[EM7180_CALDATA_SIZE];
+	unsigned int i;
+
+	for (i = 0; i < sizeof(struct em7180_caldata_id); i++) {
+		test_caldata_blob(t, blob);
+		blob[i] ^= 0x01;
+		KUNIT_EXPECT_EQ_MSG(test, test_caldata_apply(t, blob, sizeof(blob)),
+				    -EINVAL, "header byte %u", i);
+		KUNIT_EXPECT_EQ_MSG(test,
+				    em7180_warmstart_restore(t->indio_dev, blob, 0,
+							     sizeof(blob)),
+				    -EINVAL, "header byte %u", i);
+	}
+	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
+	KUNIT_EXPECT_FALSE(test, t->data->ws_valid);
+	KUNIT_EXPECT_FALSE(test, t->data->accel_offset_valid);
+
+	/* The same blob of this chip's identity is applied */
+	test_caldata_blob(t, blob);
+	KUNIT_EXPECT_EQ(test, em7180_warmstart_restore(t->indio_dev, blob, 0,
+						       sizeof(blob)), 0);
+	KUNIT_EXPECT_EQ(test, emu->params[1], 0x40000000U);
+	KUNIT_EXPECT_TRUE(test, t->data->ws_valid);
+}
+
+/*
+ * A calibration read carries the identity the driver holds in its 8-byte
+ * header, without a bus transaction of its own: the parameter read alone,
+ * as make bench counts a save. The blob read writes back as it is.
+ */
+static void em7180_test_caldata_read_header(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	struct em7180_caldata cal;
+	u8 *buf = (u8 *)&cal;
+	unsigned int i, reads;
+	int ret;
+
+	test_configure(test, t);
+	emu->transactions = 0;
+	emu->n_log = 0;
+	memset(&cal, 0xAA, sizeof(cal));
+	scoped_guard(mutex, &t->data->lock)
+		ret = em7180_warmstart_read(t->data, &cal);
+	KUNIT_ASSERT_EQ(test, ret, 0);
+	KUNIT_EXPECT_EQ(test, memcmp(buf, test_caldata_id, sizeof(test_caldata_id)), 0);
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		KUNIT_EXPECT_EQ_MSG(test, get_unaligned_le32(&buf[8 + 4 * i]),
+				    0x3F800000 + i, "parameter %u", i + 1);
+	reads = emu->transactions;
+	KUNIT_EXPECT_EQ(test, reads, 2 * EM7180_WS_NUM_PARAMS + 4);
+
+	/* Another firmware after a reset: the header follows at once */
+	t->data->ram_version = 0x0D18;
+	emu->transactions = 0;
+	scoped_guard(mutex, &t->data->lock)
+		ret = em7180_warmstart_read(t->data, &cal);
+	KUNIT_ASSERT_EQ(test, ret, 0);
+	KUNIT_EXPECT_EQ(test, get_unaligned_le16(&buf[6]), 0x0D18);
+	KUNIT_EXPECT_EQ(test, emu->transactions, reads);
+	t->data->ram_version = 0x0D17;
+
+	scoped_guard(mutex, &t->data->lock)
+		ret = em7180_warmstart_read(t->data, &cal);
+	KUNIT_ASSERT_EQ(test, ret, 0);
+	KUNIT_EXPECT_EQ(test, test_caldata_apply(t, buf, sizeof(cal)), 0);
 }
 
 /* A .fw image of @len bytes of text 0x00, 0x01, ... and its CRC field */
@@ -1801,6 +1911,8 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_caldata_apply),
 	KUNIT_CASE(em7180_test_caldata_refused),
 	KUNIT_CASE_SLOW(em7180_test_caldata_fails),
+	KUNIT_CASE(em7180_test_caldata_identity),
+	KUNIT_CASE(em7180_test_caldata_read_header),
 	{ }
 };
 

@@ -594,28 +594,86 @@ static int em7180_write_raw_get_fmt(struct iio_dev *indio_dev,
 	return IIO_VAL_INT;
 }
 
-/* A saved warm start suits only the firmware it was read from */
-static ssize_t em7180_id_show(struct device *dev,
-			      struct device_attribute *attr, char *buf)
+/**
+ * em7180_id_line() - the chip and firmware running, in one line
+ * @data: driver state, with @data->lock held or not yet shared
+ * @buf: where to put it
+ * @len: its size
+ *
+ * As bno055 reports its firmware_version: in debugfs and once at probe.
+ * After a reset only a host-loaded chip needs its firmware file again.
+ */
+void em7180_id_line(struct em7180_data *data, char *buf, size_t len)
 {
-	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
-	unsigned int i = to_iio_dev_attr(attr)->address;
-
-	guard(em7180)(data);
-	u16 id[] = { data->product_id, data->revision_id, data->rom_version,
-		     data->ram_version };
-
-	/* ProductID and RevisionID are bytes, the versions words */
-	return sysfs_emit(buf, "0x%0*x\n", i < 2 ? 2 : 4, id[i]);
+	scnprintf(buf, len,
+		  "ProductID 0x%02x RevisionID 0x%02x ROM 0x%04x RAM 0x%04x %s",
+		  data->product_id, data->revision_id, data->rom_version,
+		  data->ram_version, data->fw ? "host" : "eeprom");
 }
 
-/* After a reset only a host-loaded chip needs its firmware file again */
-static ssize_t firmware_source_show(struct device *dev,
-				    struct device_attribute *attr, char *buf)
+static void em7180_caldata_id(struct em7180_data *data,
+			      struct em7180_caldata_id *id)
 {
-	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
+	*id = (struct em7180_caldata_id) {
+		.format = EM7180_CALDATA_FORMAT,
+		.product_id = data->product_id,
+		.revision_id = data->revision_id,
+		.rom_version = cpu_to_le16(data->rom_version),
+		.ram_version = cpu_to_le16(data->ram_version),
+	};
+}
 
-	return sysfs_emit(buf, "%s\n", data->fw ? "host" : "eeprom");
+/*
+ * A warm start of other firmware would mislead the fusion: refused before
+ * the chip is touched, both identities said. @src names the blob's origin.
+ */
+static int em7180_caldata_match(struct em7180_data *data,
+				const struct em7180_caldata *cal,
+				const char *src)
+{
+	struct em7180_caldata_id id;
+
+	lockdep_assert_held(&data->lock);
+
+	em7180_caldata_id(data, &id);
+	if (!memcmp(&cal->id, &id, sizeof(id)))
+		return 0;
+
+	dev_warn_ratelimited(data->dev,
+			     "%s of %02x/%02x ROM %04x RAM %04x v%u refused: chip %02x/%02x ROM %04x RAM %04x\n",
+			     src, cal->id.product_id, cal->id.revision_id,
+			     le16_to_cpu(cal->id.rom_version),
+			     le16_to_cpu(cal->id.ram_version), cal->id.format,
+			     id.product_id, id.revision_id, data->rom_version,
+			     data->ram_version);
+	return -EINVAL;
+}
+
+/* A checked blob to the chip, if its own: kept for a power loss once written */
+static int em7180_caldata_write(struct em7180_data *data,
+				const struct em7180_caldata *cal,
+				const char *src)
+{
+	u32 vals[EM7180_WS_NUM_PARAMS];
+	unsigned int i;
+	int ret;
+
+	ret = em7180_caldata_match(data, cal, src);
+	if (ret)
+		return ret;
+
+	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
+		vals[i] = le32_to_cpu(cal->params[i]);
+	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
+				  EM7180_WS_NUM_PARAMS, vals);
+	if (ret) {
+		em7180_accel_offset_refresh(data, ret);
+		return ret;
+	}
+
+	em7180_ws_set(data, vals);
+	em7180_cal_saved(data);
+	return 0;
 }
 
 static IIO_DEVICE_ATTR(in_magn_calibration_auto_status, 0444,
@@ -626,11 +684,6 @@ static IIO_DEVICE_ATTR(in_anglvel_calibration_update, 0444, em7180_cal_show,
 		       NULL, EM7180_CAL_ATTR_GBIAS_UPDATE);
 static IIO_DEVICE_ATTR(in_magn_calibration_update, 0444, em7180_cal_show,
 		       NULL, EM7180_CAL_ATTR_MAG_UPDATE);
-static IIO_DEVICE_ATTR(product_id, 0444, em7180_id_show, NULL, 0);
-static IIO_DEVICE_ATTR(revision_id, 0444, em7180_id_show, NULL, 1);
-static IIO_DEVICE_ATTR(rom_version, 0444, em7180_id_show, NULL, 2);
-static IIO_DEVICE_ATTR(ram_version, 0444, em7180_id_show, NULL, 3);
-static IIO_DEVICE_ATTR_RO(firmware_source, 0);
 
 /**
  * em7180_warmstart_check() - validate a calibration_data attribute access
@@ -640,19 +693,21 @@ static IIO_DEVICE_ATTR_RO(firmware_source, 0);
  * @write: true for a write, whose payload is checked as well
  *
  * A read must start at 0 with room for the whole blob; a write must be the
- * whole blob of 35 finite floats.
+ * whole blob with 35 finite floats. Its identity is the caller's to check.
  *
  * Return: 0 or -EINVAL.
  */
 int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
 			   bool write)
 {
+	const struct em7180_caldata *cal = (const void *)buf;
 	unsigned int i;
 
-	if (off || count < EM7180_WS_SIZE || (write && count != EM7180_WS_SIZE))
+	if (off || count < EM7180_CALDATA_SIZE ||
+	    (write && count != EM7180_CALDATA_SIZE))
 		return -EINVAL;
-	for (i = 0; write && i < EM7180_WS_SIZE; i += 4)
-		if (!em7180_float_is_finite(get_unaligned_le32(&buf[i])))
+	for (i = 0; write && i < EM7180_WS_NUM_PARAMS; i++)
+		if (!em7180_float_is_finite(le32_to_cpu(cal->params[i])))
 			return -EINVAL;
 
 	return 0;
@@ -662,14 +717,15 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_check);
 /**
  * em7180_warmstart_read() - read the warm start from the chip
  * @data: driver state, with @data->lock held
- * @buf: where to put the 140-byte blob
+ * @cal: where to put it, with the identity the driver holds
  *
  * A word that is no finite float would make a blob the write path refuses:
  * the read fails instead, and the copy kept for a power loss stays valid.
  *
  * Return: 0, -EIO for such a word (logged), or the transfer's error.
  */
-VISIBLE_IF_KUNIT int em7180_warmstart_read(struct em7180_data *data, u8 *buf)
+VISIBLE_IF_KUNIT int em7180_warmstart_read(struct em7180_data *data,
+					   struct em7180_caldata *cal)
 {
 	u32 vals[EM7180_WS_NUM_PARAMS];
 	unsigned int i;
@@ -692,7 +748,8 @@ VISIBLE_IF_KUNIT int em7180_warmstart_read(struct em7180_data *data, u8 *buf)
 	}
 
 	em7180_ws_set(data, vals);
-	memcpy(buf, data->ws, EM7180_WS_SIZE);
+	em7180_caldata_id(data, &cal->id);
+	memcpy(cal->params, data->ws, EM7180_WS_SIZE);
 	return 0;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_read);
@@ -713,7 +770,7 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 	long ret;
 	s64 ts;
 
-	if (off >= EM7180_WS_SIZE)
+	if (off >= EM7180_CALDATA_SIZE)
 		return 0;
 
 	ret = em7180_warmstart_check(buf, off, count, false);
@@ -734,11 +791,11 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 		    --tries)
 			continue;
 
-		ret = em7180_warmstart_read(data, buf);
+		ret = em7180_warmstart_read(data, (void *)buf);
 		if (ret)
 			return ret;
 		em7180_cal_saved(data);
-		return EM7180_WS_SIZE;
+		return EM7180_CALDATA_SIZE;
 	}
 }
 
@@ -752,37 +809,26 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
  * Refused while a buffer runs: a restore replaces the state the fusion is
  * tracking with, which belongs before the sensors start, as at probe.
  *
- * Return: 0, -EINVAL for a bad blob, size or offset, -EBUSY while a buffer
- * is enabled, or the error of the parameter transfer.
+ * Return: 0, -EINVAL for a bad blob, size or offset or another chip's or
+ * firmware's blob, -EBUSY while a buffer is enabled, or the error of the
+ * parameter transfer.
  */
 int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 			     loff_t off, size_t count)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
-	u32 vals[EM7180_WS_NUM_PARAMS];
-	unsigned int i;
 	int ret;
 
 	ret = em7180_warmstart_check(buf, off, count, true);
 	if (ret)
 		return ret;
 
-	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
-		vals[i] = get_unaligned_le32(&buf[4 * i]);
-
 	if (!iio_device_claim_direct(indio_dev))
 		return -EBUSY;
 
-	scoped_guard(em7180, data) {
-		ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
-					  EM7180_WS_NUM_PARAMS, vals);
-		if (!ret) {
-			em7180_ws_set(data, vals);
-			em7180_cal_saved(data);
-		} else {
-			em7180_accel_offset_refresh(data, ret);
-		}
-	}
+	scoped_guard(em7180, data)
+		ret = em7180_caldata_write(data, (const void *)buf,
+					   "calibration_data");
 
 	iio_device_release_direct(indio_dev);
 
@@ -806,15 +852,10 @@ static struct attribute *em7180_attrs[] = {
 	&iio_dev_attr_in_magn_calibration_score.dev_attr.attr,
 	&iio_dev_attr_in_anglvel_calibration_update.dev_attr.attr,
 	&iio_dev_attr_in_magn_calibration_update.dev_attr.attr,
-	&iio_dev_attr_product_id.dev_attr.attr,
-	&iio_dev_attr_revision_id.dev_attr.attr,
-	&iio_dev_attr_rom_version.dev_attr.attr,
-	&iio_dev_attr_ram_version.dev_attr.attr,
-	&iio_dev_attr_firmware_source.dev_attr.attr,
 	NULL
 };
 
-static em7180_bin_attribute *em7180_bin_attrs[] = {
+static em7180_bin_attribute *em7180_bin_attr_const em7180_bin_attrs[] = {
 	&bin_attr_calibration_data,
 	NULL
 };
@@ -1345,39 +1386,33 @@ static void em7180_unbind_action(void *arg)
  * @data: driver state, with @data->lock held
  * @blob: the file's content: the blob as calibration_data reads it
  * @size: its size
+ * @name: the file's name, for the warnings
  *
- * Checked as a calibration_data write before the chip is touched; once
- * written it is the warm start a power loss brings back, and its
- * parameters 27..29 are the accelerometer offsets.
+ * Checked as a calibration_data write before the chip is touched, a
+ * refusal said once; once written it is the warm start a power loss
+ * brings back, and its parameters 27..29 are the accelerometer offsets.
  *
  * Return: 0, -EINVAL for a blob calibration_data would refuse, or the
  * error of the parameter transfer.
  */
 VISIBLE_IF_KUNIT int em7180_caldata_apply(struct em7180_data *data,
-					  const u8 *blob, size_t size)
+					  const u8 *blob, size_t size,
+					  const char *name)
 {
-	u32 vals[EM7180_WS_NUM_PARAMS];
-	unsigned int i;
-	int ret;
-
 	lockdep_assert_held(&data->lock);
 
-	ret = em7180_warmstart_check(blob, 0, size, true);
-	if (ret)
-		return ret;
-
-	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
-		vals[i] = get_unaligned_le32(&blob[4 * i]);
-	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
-				  EM7180_WS_NUM_PARAMS, vals);
-	if (ret) {
-		em7180_accel_offset_refresh(data, ret);
-		return ret;
+	if (size != EM7180_CALDATA_SIZE) {
+		dev_warn(data->dev, "%s: %zu bytes, not %zu: calibration not restored\n",
+			 name, size, EM7180_CALDATA_SIZE);
+		return -EINVAL;
+	}
+	if (em7180_warmstart_check(blob, 0, size, true)) {
+		dev_warn(data->dev, "%s: a value is not a finite float: calibration not restored\n",
+			 name);
+		return -EINVAL;
 	}
 
-	em7180_ws_set(data, vals);
-	em7180_cal_saved(data);
-	return 0;
+	return em7180_caldata_write(data, (const void *)blob, name);
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_caldata_apply);
 
@@ -1385,7 +1420,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_caldata_apply);
  * The calibration sentral-warmstart saved for this chip and its firmware,
  * restored before the device is registered, so that no consumer ever sees
  * the chip uncalibrated; bno055 loads its calibration file the same way.
- * The versions in the name keep another firmware's file away. No file is
+ * The file's header keeps another chip's or firmware's away. No file is
  * the first boot; a bad one, or a failed transfer, is said and probe goes
  * on. Without a restore the offsets are read: calibbias reads fail until
  * a transfer brings them, streaming works without.
@@ -1397,9 +1432,8 @@ static void em7180_caldata_restore(struct em7180_data *data)
 	int ret = -ENOMEM;
 
 	char *name __free(kfree) = kasprintf(GFP_KERNEL,
-					     "em7180/caldata-%04x-%04x-%s.bin",
-					     data->rom_version,
-					     data->ram_version, dev_name(dev));
+					     "em7180/caldata-%s.bin",
+					     dev_name(dev));
 	if (name)
 		ret = firmware_request_nowarn(&fw, name, dev);
 	if (ret == -ENOENT)
@@ -1408,18 +1442,13 @@ static void em7180_caldata_restore(struct em7180_data *data)
 		dev_warn(dev, "cannot load %s: %d\n", name, ret);
 	if (!ret) {
 		scoped_guard(em7180, data)
-			ret = em7180_caldata_apply(data, fw->data, fw->size);
+			ret = em7180_caldata_apply(data, fw->data, fw->size,
+						   name);
 		if (!ret)
 			dev_info(dev, "restored calibration from %s\n", name);
 		else if (ret != -EINVAL)
 			dev_warn(dev, "%s: calibration not restored: %d\n",
 				 name, ret);
-		else if (fw->size != EM7180_WS_SIZE)
-			dev_warn(dev, "%s: %zu bytes, not %u: calibration not restored\n",
-				 name, fw->size, EM7180_WS_SIZE);
-		else
-			dev_warn(dev, "%s: a value is not a finite float: calibration not restored\n",
-				 name);
 		release_firmware(fw);
 		/* After a failed transfer the offsets were read back */
 		if (ret != -EINVAL)
@@ -1485,6 +1514,7 @@ static int em7180_read_versions(struct em7180_data *data)
 int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 {
 	static const char * const regulators[] = { "vdd", "vddio" };
+	char id[EM7180_ID_LINE_LEN];
 	struct em7180_data *data;
 	struct iio_dev *indio_dev;
 	unsigned int status = 0;
@@ -1571,10 +1601,8 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 				 ret);
 		data->appnote_attrs = data->appnote;
 	}
-	dev_info(dev, "firmware ROM 0x%04x RAM 0x%04x from %s, calibration %s\n",
-		 data->rom_version, data->ram_version,
-		 data->fw ? "the host" : "EEPROM",
-		 data->appnote ? "with score" : "from AlgorithmStatus");
+	em7180_id_line(data, id, sizeof(id));
+	dev_info(dev, "firmware %s\n", id);
 	em7180_caldata_restore(data);
 
 	indio_dev->name = "em7180";
@@ -1614,11 +1642,11 @@ EXPORT_SYMBOL_NS_GPL(em7180_core_probe, "IIO_EM7180");
  */
 int em7180_chip_suspend(struct em7180_data *data)
 {
-	u8 buf[EM7180_WS_SIZE];
+	struct em7180_caldata cal;
 	int ret;
 
 	guard(em7180)(data);
-	ret = em7180_warmstart_read(data, buf);
+	ret = em7180_warmstart_read(data, &cal);
 	if (ret)
 		dev_warn(data->dev,
 			 "cannot read the calibration before sleep: %d\n", ret);
