@@ -20,7 +20,6 @@
 #include <linux/seq_file.h>
 #include <linux/workqueue.h>
 
-#include <linux/iio/buffer.h>
 #include <linux/iio/iio.h>
 
 #include <kunit/visibility.h>
@@ -170,17 +169,7 @@ static void em7180_watch_work(struct work_struct *work)
 	em7180_watch_schedule(data);
 }
 
-/* current_timestamp_clock may have changed since the last pause */
-static int em7180_buffer_preenable(struct iio_dev *indio_dev)
-{
-	struct em7180_data *data = iio_priv(indio_dev);
-
-	guard(em7180)(data);
-	data->resumed = 0;
-	return 0;
-}
-
-static int em7180_buffer_postenable(struct iio_dev *indio_dev)
+int em7180_watch_start(struct iio_dev *indio_dev)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
 
@@ -189,19 +178,13 @@ static int em7180_buffer_postenable(struct iio_dev *indio_dev)
 	return 0;
 }
 
-static int em7180_buffer_predisable(struct iio_dev *indio_dev)
+int em7180_watch_stop(struct iio_dev *indio_dev)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
 
 	cancel_delayed_work_sync(&data->watch_work);
 	return 0;
 }
-
-const struct iio_buffer_setup_ops em7180_buffer_ops = {
-	.preenable = em7180_buffer_preenable,
-	.postenable = em7180_buffer_postenable,
-	.predisable = em7180_buffer_predisable,
-};
 
 /**
  * em7180_health_init() - set up recovery and the watch of a running buffer

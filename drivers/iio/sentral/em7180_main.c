@@ -16,7 +16,7 @@
 #include <linux/delay.h>
 #include <linux/device.h>
 #include <linux/errno.h>
-#include <linux/firmware.h>
+#include <linux/firmware.h> /* upstream: param */
 #include <linux/interrupt.h>
 #include <linux/iopoll.h>
 #include <linux/jiffies.h>
@@ -73,8 +73,10 @@
 #define EM7180_SENTRAL_UPLOAD_ERR	BIT(2)
 #define EM7180_SENTRAL_NO_EEPROM	BIT(4)
 
+/* upstream: param { */
 #define EM7180_WS_FIRST_PARAM		1
 #define EM7180_ACCEL_OFFSET_PARAM	27
+/* upstream: } */
 
 /*
  * Quaternion in Q14, s16 x 4 as bno055 has it: IIO prints scales with nine
@@ -283,16 +285,58 @@ static const struct iio_chan_spec em7180_channels[] = {
 	EM7180_VEC_CHANNEL(IIO_MAGN, Y, EM7180_REG_MX + 2, EM7180_SCAN_MAGN_Y, 0),
 	EM7180_VEC_CHANNEL(IIO_MAGN, Z, EM7180_REG_MX + 4, EM7180_SCAN_MAGN_Z, 0),
 	EM7180_VEC_CHANNEL(IIO_ACCEL, X, EM7180_REG_AX, EM7180_SCAN_ACCEL_X,
-			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
+			   BIT(IIO_CHAN_INFO_CALIBBIAS)), /* upstream: param */
+			   /* upstream: !param: 0), */
 	EM7180_VEC_CHANNEL(IIO_ACCEL, Y, EM7180_REG_AX + 2, EM7180_SCAN_ACCEL_Y,
-			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
+			   BIT(IIO_CHAN_INFO_CALIBBIAS)), /* upstream: param */
+			   /* upstream: !param: 0), */
 	EM7180_VEC_CHANNEL(IIO_ACCEL, Z, EM7180_REG_AX + 4, EM7180_SCAN_ACCEL_Z,
-			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
+			   BIT(IIO_CHAN_INFO_CALIBBIAS)), /* upstream: param */
+			   /* upstream: !param: 0), */
 	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, X, EM7180_REG_GX, EM7180_SCAN_ANGLVEL_X, 0),
 	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, Y, EM7180_REG_GX + 2, EM7180_SCAN_ANGLVEL_Y, 0),
 	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, Z, EM7180_REG_GX + 4, EM7180_SCAN_ANGLVEL_Z, 0),
 	IIO_CHAN_SOFT_TIMESTAMP(EM7180_SCAN_TIMESTAMP),
 };
+
+/**
+ * em7180_float_to_fixed() - float32 to signed fixed point
+ * @bits: IEEE-754 single precision bit pattern
+ * @frac_bits: number of fraction bits of the result, 0..30
+ *
+ * Rounds halves away from zero; saturates (±Inf too); NaN gives 0.
+ *
+ * Return: round(value * 2^frac_bits), saturated.
+ */
+s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits)
+{
+	int e = (bits & EM7180_F32_EXP_MASK) >> EM7180_F32_FRAC_BITS;
+	bool neg = bits & EM7180_F32_SIGN;
+	u32 mant = bits & EM7180_F32_FRAC_MASK;
+	u32 val;
+	int shift;
+
+	if (e == 0xff && mant)
+		return 0;
+	/* |value| >= 2^(31 - frac_bits) does not fit */
+	if (e >= EM7180_F32_BIAS + 31 - (int)frac_bits)
+		return neg ? S32_MIN : S32_MAX;
+	if (!e)
+		return 0;	/* below 2^-126 */
+
+	/* value * 2^frac_bits = mant * 2^-shift with the hidden bit in mant */
+	mant |= BIT(EM7180_F32_FRAC_BITS);
+	shift = EM7180_F32_BIAS + EM7180_F32_FRAC_BITS - (int)frac_bits - e;
+	if (shift <= 0)
+		val = mant << -shift;
+	else if (shift > 25)
+		val = 0;
+	else
+		val = (mant + BIT(shift - 1)) >> shift;
+
+	return neg ? -(s32)val : (s32)val;
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
 
 /* One quaternion component, float32 from the chip, as Q14 in an s16 */
 static s16 em7180_quat_component(const u8 *src)
@@ -313,14 +357,17 @@ static s16 em7180_quat_component(const u8 *src)
 void em7180_lock(struct em7180_data *data)
 {
 	mutex_lock(&data->lock);
+	/* upstream: passthru { */
 	while (data->passthru) {
 		mutex_unlock(&data->lock);
 		wait_event(data->wq, !READ_ONCE(data->passthru));
 		mutex_lock(&data->lock);
 	}
+	/* upstream: } */
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_lock);
 
+/* upstream: param { */
 /**
  * em7180_resumed() - the chip runs again after a pause
  * @data: driver state, with @data->lock held
@@ -333,6 +380,8 @@ void em7180_resumed(struct em7180_data *data)
 	lockdep_assert_held(&data->lock);
 	data->resumed = iio_get_time_ns(dev_get_drvdata(data->dev));
 }
+
+/* upstream: } */
 
 /* The actual rate; the requested one until the sensor has started */
 static int em7180_read_freq(struct em7180_data *data,
@@ -368,6 +417,7 @@ static int em7180_write_freq(struct em7180_data *data,
 	return regmap_write(data->regmap, s->rate_reg, val / s->hz_per_lsb);
 }
 
+/* upstream: param { */
 /*
  * Parameters 27..29 change only when the host writes them: calibbias is
  * served from a copy, so that a reader of the world-readable attribute
@@ -464,6 +514,7 @@ int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_write_calibbias);
 
+/* upstream: } */
 static int em7180_read_raw(struct em7180_data *data,
 			   const struct iio_chan_spec *chan, int *vals)
 {
@@ -472,7 +523,7 @@ static int em7180_read_raw(struct em7180_data *data,
 	int i, ret;
 
 	scoped_guard(em7180, data) {
-		em7180_check_status(data);
+		em7180_check_status(data); /* upstream: health */
 		ret = regmap_bulk_read(data->regmap, chan->address, raw,
 				       quat ? 16 : 2);
 	}
@@ -496,12 +547,16 @@ static int em7180_read_raw_multi(struct iio_dev *indio_dev,
 				 long mask)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
+	/* upstream: feature { */
 	const struct em7180_feature *f = em7180_feature_find(data, chan->type);
+	/* upstream: } */
 	int ret;
 
 	*val_len = 2;
+	/* upstream: feature { */
 	if (f && mask != IIO_CHAN_INFO_RAW)
 		return em7180_feature_read_info(data, f, vals, mask);
+	/* upstream: } */
 
 	switch (mask) {
 	case IIO_CHAN_INFO_RAW:
@@ -526,11 +581,13 @@ static int em7180_read_raw_multi(struct iio_dev *indio_dev,
 		return IIO_VAL_INT_PLUS_NANO;
 	case IIO_CHAN_INFO_SAMP_FREQ:
 		return em7180_read_freq(data, em7180_sensor_of(chan->type), vals);
+	/* upstream: param { */
 	case IIO_CHAN_INFO_CALIBBIAS:
 		ret = em7180_read_calibbias(data,
 					    (chan->address - EM7180_REG_AX) / 2,
 					    vals);
 		return ret ?: IIO_VAL_INT;
+	/* upstream: } */
 	default:
 		return -EINVAL;
 	}
@@ -545,8 +602,10 @@ static int em7180_read_avail(struct iio_dev *indio_dev,
 
 	if (mask != IIO_CHAN_INFO_SAMP_FREQ)
 		return -EINVAL;
+	/* upstream: feature { */
 	if (em7180_feature_find(iio_priv(indio_dev), chan->type))
 		return em7180_feature_read_avail(vals, type, length);
+	/* upstream: } */
 
 	*type = IIO_VAL_INT;
 	*vals = s->freq_avail;
@@ -559,7 +618,9 @@ static int em7180_write_raw(struct iio_dev *indio_dev,
 			    int val, int val2, long mask)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
+	/* upstream: feature { */
 	const struct em7180_feature *f = em7180_feature_find(data, chan->type);
+	/* upstream: } */
 	int ret;
 
 	if (val2)
@@ -570,14 +631,20 @@ static int em7180_write_raw(struct iio_dev *indio_dev,
 
 	switch (mask) {
 	case IIO_CHAN_INFO_SAMP_FREQ:
+		/* upstream: feature { */
 		ret = f ? em7180_feature_write_freq(data, f, val) :
 		      em7180_write_freq(data, em7180_sensor_of(chan->type), val);
+		/* upstream: } */
+		/* upstream: !feature: ret = em7180_write_freq(data, */
+		/* upstream: !feature:			em7180_sensor_of(chan->type), val); */
 		break;
+	/* upstream: param { */
 	case IIO_CHAN_INFO_CALIBBIAS:
 		ret = em7180_write_calibbias(data,
 					     (chan->address - EM7180_REG_AX) / 2,
 					     val);
 		break;
+	/* upstream: } */
 	default:
 		ret = -EINVAL;
 		break;
@@ -608,9 +675,11 @@ void em7180_id_line(struct em7180_data *data, char *buf, size_t len)
 	scnprintf(buf, len,
 		  "ProductID 0x%02x RevisionID 0x%02x ROM 0x%04x RAM 0x%04x %s",
 		  data->product_id, data->revision_id, data->rom_version,
-		  data->ram_version, data->fw ? "host" : "eeprom");
+		  data->ram_version, data->fw ? "host" : "eeprom"); /* upstream: upload */
+		  /* upstream: !upload: data->ram_version, "eeprom"); */
 }
 
+/* upstream: param { */
 static void em7180_caldata_id(struct em7180_data *data,
 			      struct em7180_caldata_id *id)
 {
@@ -672,10 +741,12 @@ static int em7180_caldata_write(struct em7180_data *data,
 	}
 
 	em7180_ws_set(data, vals);
-	em7180_cal_saved(data);
+	em7180_cal_saved(data); /* upstream: cal */
 	return 0;
 }
 
+/* upstream: } */
+/* upstream: cal { */
 static IIO_DEVICE_ATTR(in_magn_calibration_auto_status, 0444,
 		       em7180_cal_show, NULL, EM7180_CAL_ATTR_LEVEL);
 static IIO_DEVICE_ATTR(in_magn_calibration_score, 0444,
@@ -684,7 +755,9 @@ static IIO_DEVICE_ATTR(in_anglvel_calibration_update, 0444, em7180_cal_show,
 		       NULL, EM7180_CAL_ATTR_GBIAS_UPDATE);
 static IIO_DEVICE_ATTR(in_magn_calibration_update, 0444, em7180_cal_show,
 		       NULL, EM7180_CAL_ATTR_MAG_UPDATE);
+/* upstream: } */
 
+/* upstream: param { */
 /**
  * em7180_warmstart_check() - validate a calibration_data attribute access
  * @buf: the blob, for a write
@@ -794,7 +867,7 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 		ret = em7180_warmstart_read(data, (void *)buf);
 		if (ret)
 			return ret;
-		em7180_cal_saved(data);
+		em7180_cal_saved(data); /* upstream: cal */
 		return EM7180_CALDATA_SIZE;
 	}
 }
@@ -847,6 +920,8 @@ static ssize_t calibration_data_write(struct file *filp, struct kobject *kobj,
 /* Size 0: sysfs would cut a longer write down to a valid-looking blob */
 static BIN_ATTR_ADMIN_RW(calibration_data, 0);
 
+/* upstream: } */
+/* upstream: cal { */
 static struct attribute *em7180_attrs[] = {
 	&iio_dev_attr_in_magn_calibration_auto_status.dev_attr.attr,
 	&iio_dev_attr_in_magn_calibration_score.dev_attr.attr,
@@ -855,11 +930,15 @@ static struct attribute *em7180_attrs[] = {
 	NULL
 };
 
+/* upstream: } */
+/* upstream: param { */
 static em7180_bin_attribute *em7180_bin_attr_const em7180_bin_attrs[] = {
 	&bin_attr_calibration_data,
 	NULL
 };
 
+/* upstream: } */
+/* upstream: cal { */
 /* Asked once, at registration: the application note's, per firmware */
 static umode_t em7180_attr_is_visible(struct kobject *kobj,
 				      struct attribute *attr, int n)
@@ -876,11 +955,15 @@ static umode_t em7180_attr_is_visible(struct kobject *kobj,
 	return attr->mode;
 }
 
+/* upstream: } */
+/* upstream: param { */
 static const struct attribute_group em7180_attr_group = {
-	.attrs = em7180_attrs,
+	.attrs = em7180_attrs, /* upstream: cal */
 	.bin_attrs = em7180_bin_attrs,
-	.is_visible = em7180_attr_is_visible,
+	.is_visible = em7180_attr_is_visible, /* upstream: cal */
 };
+
+/* upstream: } */
 
 /* A read of a clear-on-read register would take an event or a flag away */
 static int em7180_debugfs_reg_access(struct iio_dev *indio_dev,
@@ -905,7 +988,7 @@ static const struct iio_info em7180_info = {
 	.write_raw = em7180_write_raw,
 	.write_raw_get_fmt = em7180_write_raw_get_fmt,
 	.debugfs_reg_access = em7180_debugfs_reg_access,
-	.attrs = &em7180_attr_group,
+	.attrs = &em7180_attr_group, /* upstream: param */
 };
 
 /*
@@ -918,9 +1001,10 @@ static unsigned int em7180_scan_span(struct iio_dev *indio_dev,
 				     const unsigned long *mask,
 				     unsigned int *start)
 {
-	struct em7180_data *data = iio_priv(indio_dev);
+	struct em7180_data *data = iio_priv(indio_dev); /* upstream: feature */
 	const struct iio_chan_spec *chans = indio_dev->channels;
-	unsigned int n = EM7180_SCAN_TIMESTAMP + data->n_features;
+	unsigned int n = EM7180_SCAN_TIMESTAMP + data->n_features; /* upstream: feature */
+	/* upstream: !feature: unsigned int n = EM7180_SCAN_TIMESTAMP; */
 	unsigned int lo = find_first_bit(mask, n);
 	unsigned int hi = find_last_bit(mask, n);
 	unsigned int end = EM7180_REG_MX;
@@ -928,9 +1012,12 @@ static unsigned int em7180_scan_span(struct iio_dev *indio_dev,
 	if (lo >= n)
 		return 0;
 
+	/* upstream: feature { */
 	if (hi >= EM7180_SCAN_TIMESTAMP)
 		end = em7180_feature_find(data, chans[hi].type)->end_reg;
 	else if (hi != EM7180_SCAN_QUAT)
+	/* upstream: } */
+	/* upstream: !feature: if (hi != EM7180_SCAN_QUAT) */
 		end += round_up(chans[hi].address + 1 - EM7180_REG_MX, 8);
 	*start = chans[lo].address;
 	return end - *start;
@@ -955,8 +1042,10 @@ static void em7180_scan(struct iio_dev *indio_dev, s64 ts, bool own)
 
 	lockdep_assert_held(&data->lock);
 
+	/* upstream: param { */
 	if (ts < data->resumed)
 		return;
+	/* upstream: } */
 	len = em7180_scan_span(indio_dev, mask, &start);
 	if (len && regmap_bulk_read(data->regmap, start, data->burst, len))
 		return;
@@ -969,7 +1058,10 @@ static void em7180_scan(struct iio_dev *indio_dev, s64 ts, bool own)
 
 	word = test_bit(EM7180_SCAN_QUAT, mask) ? data->scan.q.words :
 						  data->scan.words;
+	/* upstream: feature { */
 	for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP + data->n_features) {
+	/* upstream: } */
+	/* upstream: !feature: for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP) { */
 		src = &data->burst[indio_dev->channels[bit].address - start];
 		if (bit != EM7180_SCAN_QUAT) {
 			memcpy(word++, src, sizeof(*word));
@@ -980,8 +1072,10 @@ static void em7180_scan(struct iio_dev *indio_dev, s64 ts, bool own)
 	}
 	iio_push_to_buffers_with_ts(indio_dev, &data->scan, sizeof(data->scan),
 				    ts);
+	/* upstream: param { */
 	if (own)
 		WRITE_ONCE(data->scan_ts, ts);
+	/* upstream: } */
 }
 
 /*
@@ -998,7 +1092,7 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 	/* Not iio_trigger_using_own(): the core sets that after enabling */
 	if (data->trig && indio_dev->trig == data->trig) {
 		em7180_scan(indio_dev, data->timestamp, true);
-		wake_up_all(&data->wq);
+		wake_up_all(&data->wq); /* upstream: param */
 	} else {
 		scoped_guard(em7180, data)
 			em7180_scan(indio_dev, pf->timestamp, false);
@@ -1057,11 +1151,15 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	if (!status)
 		return IRQ_NONE;
 
+	/* upstream: health { */
 	if (status & EM7180_EVENT_ERROR)
 		em7180_report_error(data);
 	if (status & EM7180_EVENT_CPU_RESET)
 		em7180_recover_schedule(data);
-	else if (status & EM7180_EVENT_DATA && !data->passthru)
+	else if (status & EM7180_EVENT_DATA && !data->passthru) /* upstream: passthru */
+	/* upstream: !passthru: else if (status & EM7180_EVENT_DATA) */
+	/* upstream: } */
+	/* upstream: !health: if (status & EM7180_EVENT_DATA) */
 		em7180_trigger_poll_nested(data->trig);
 
 	return IRQ_HANDLED;
@@ -1096,8 +1194,10 @@ static void em7180_pace(struct iio_dev *indio_dev, const unsigned long *mask)
 	}
 	data->pace_event = pace->event;
 	data->pace_time = indio_dev->channels[pace->scan_first].address + 6;
+	/* upstream: feature { */
 	if (em7180_feature_pace(data, mask, best))
 		data->pace_time = data->pace_feature->end_reg - 2;
+	/* upstream: } */
 }
 
 static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
@@ -1112,20 +1212,27 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 		data->last_time = -1;
 		if (state)
 			em7180_pace(indio_dev, indio_dev->active_scan_mask);
+		/* upstream: param { */
 		/* No scan comes any more: transfers waiting for one go ahead */
 		else
 			wake_up_all(&data->wq);
-		ret = em7180_feature_report(data);
+		/* upstream: } */
+		ret = em7180_feature_report(data); /* upstream: feature */
+		/* upstream: !feature: ret = 0; */
 		/*
 		 * A pending event keeps INT high: no edge would ever come. Read
 		 * before the data event is enabled: a sample that comes after
 		 * the read raises INT and is scanned, not cleared unread.
 		 */
+		/* upstream: health { */
 		if (!ret && state) {
 			ret = em7180_read_events(data, &status);
 			if (!ret && (status & EM7180_EVENT_CPU_RESET))
 				ret = em7180_chip_recover(data);
 		}
+		/* upstream: } */
+		/* upstream: !health: if (!ret && state) */
+		/* upstream: !health:	ret = em7180_read_events(data, &status); */
 		ret = ret ?: regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
 					  EM7180_EVENT_ALWAYS | data->pace_event);
 		/*
@@ -1165,10 +1272,13 @@ static ssize_t sampling_frequency_show(struct device *dev,
 		if (em7180_sensors[i].event == event)
 			break;
 
+	/* upstream: feature { */
 	if (event == EM7180_EVENT_FEATURE)
 		ret = em7180_feature_read_freq(data, data->pace_feature, &hz);
 	else
 		ret = em7180_read_freq(data, &em7180_sensors[i], &hz);
+	/* upstream: } */
+	/* upstream: !feature: ret = em7180_read_freq(data, &em7180_sensors[i], &hz); */
 	if (ret < 0)
 		return ret;
 
@@ -1218,6 +1328,24 @@ static int em7180_trigger_probe(struct iio_dev *indio_dev, int irq)
 	return 0;
 }
 
+/* upstream: param { */
+/* current_timestamp_clock may have changed since the last pause */
+static int em7180_buffer_preenable(struct iio_dev *indio_dev)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+
+	guard(em7180)(data);
+	data->resumed = 0;
+	return 0;
+}
+
+static const struct iio_buffer_setup_ops em7180_buffer_ops = {
+	.preenable = em7180_buffer_preenable,
+	.postenable = em7180_watch_start, /* upstream: health */
+	.predisable = em7180_watch_stop, /* upstream: health */
+};
+
+/* upstream: } */
 static int em7180_read_status(struct em7180_data *data, unsigned int *status)
 {
 	return regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, status);
@@ -1322,7 +1450,8 @@ static int em7180_chip_configure(struct em7180_data *data, bool from_cache)
 	unsigned int i, val;
 	int ret;
 
-	ret = em7180_feature_configure(data, from_cache);
+	ret = em7180_feature_configure(data, from_cache); /* upstream: feature */
+	/* upstream: !feature: ret = 0; */
 	for (i = 0; i < ARRAY_SIZE(seq) && !ret; i++) {
 		val = seq[i].def;
 		/* All but the transfer's end from the cache */
@@ -1381,6 +1510,7 @@ static void em7180_unbind_action(void *arg)
 		dev_warn(data->dev, "chip not left running\n");
 }
 
+/* upstream: param { */
 /**
  * em7180_caldata_apply() - restore a saved calibration file's blob
  * @data: driver state, with @data->lock held
@@ -1461,6 +1591,7 @@ static void em7180_caldata_restore(struct em7180_data *data)
 		dev_warn(dev, "cannot read the accelerometer offsets: %d\n", ret);
 }
 
+/* upstream: } */
 /*
  * Another ID may be a compatible part: say so and go on, as bno055 does.
  * The first access after power-on may come while the chip still resets.
@@ -1531,7 +1662,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	ret = devm_mutex_init(dev, &data->lock);
 	if (ret)
 		return ret;
-	init_waitqueue_head(&data->wq);
+	init_waitqueue_head(&data->wq); /* upstream: param */
 	dev_set_drvdata(dev, indio_dev);
 
 	ret = devm_regulator_bulk_get_enable(dev, ARRAY_SIZE(regulators),
@@ -1551,25 +1682,32 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	ret = em7180_wait_firmware(data, &status);
 	if (!ret)
 		ret = em7180_check_alive(data, &status);
-	if (ret && ret != -ENODEV)
+	if (ret && ret != -ENODEV) /* upstream: upload */
+	/* upstream: !upload: if (ret) */
 		return dev_err_probe(dev, ret,
 				     "firmware not ready (SentralStatus 0x%02x)\n",
 				     status);
 
+	/* upstream: upload { */
 	/* Without an EEPROM, or with a firmware-name: from the host */
 	ret = em7180_upload_probe(data, ret == -ENODEV);
 	if (ret)
 		return ret;
+	/* upstream: } */
 
 	ret = em7180_read_versions(data);
 	if (ret)
 		return dev_err_probe(dev, ret,
 				     "failed to read firmware versions\n");
 
+	/* upstream: feature { */
 	ret = em7180_feature_probe(indio_dev, em7180_channels,
 				   ARRAY_SIZE(em7180_channels));
 	if (ret)
 		return ret;
+	/* upstream: } */
+	/* upstream: !feature: indio_dev->channels = em7180_channels; */
+	/* upstream: !feature: indio_dev->num_channels = ARRAY_SIZE(em7180_channels); */
 
 	ret = em7180_chip_configure(data, false);
 	if (ret)
@@ -1579,6 +1717,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
+	/* upstream: health { */
 	/*
 	 * Before the first parameter transfer, whose end may fail and ask
 	 * for a recovery; its teardown runs before the unbind action, which
@@ -1588,11 +1727,15 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
+	/* upstream: } */
+	/* upstream: param { */
 	scoped_guard(em7180, data)
 		ret = em7180_param_pointer(data);
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to probe the register pointer\n");
 
+	/* upstream: } */
+	/* upstream: cal { */
 	/* Streaming works without: the score is left out */
 	scoped_guard(em7180, data) {
 		ret = em7180_cal_detect(data);
@@ -1601,9 +1744,10 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 				 ret);
 		data->appnote_attrs = data->appnote;
 	}
+	/* upstream: } */
 	em7180_id_line(data, id, sizeof(id));
 	dev_info(dev, "firmware %s\n", id);
-	em7180_caldata_restore(data);
+	em7180_caldata_restore(data); /* upstream: param */
 
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;
@@ -1618,7 +1762,8 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	ret = devm_iio_triggered_buffer_setup(dev, indio_dev,
 					      iio_pollfunc_store_time,
 					      em7180_trigger_handler,
-					      &em7180_buffer_ops);
+					      &em7180_buffer_ops); /* upstream: param */
+					      /* upstream: !param: NULL); */
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to set up buffer\n");
 
@@ -1626,7 +1771,7 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
-	em7180_health_debugfs(indio_dev);
+	em7180_health_debugfs(indio_dev); /* upstream: health */
 	return 0;
 }
 EXPORT_SYMBOL_NS_GPL(em7180_core_probe, "IIO_EM7180");
@@ -1642,19 +1787,24 @@ EXPORT_SYMBOL_NS_GPL(em7180_core_probe, "IIO_EM7180");
  */
 int em7180_chip_suspend(struct em7180_data *data)
 {
+	/* upstream: param { */
 	struct em7180_caldata cal;
 	int ret;
+	/* upstream: } */
 
 	guard(em7180)(data);
+	/* upstream: param { */
 	ret = em7180_warmstart_read(data, &cal);
 	if (ret)
 		dev_warn(data->dev,
 			 "cannot read the calibration before sleep: %d\n", ret);
+	/* upstream: } */
 
 	return em7180_standby(data);
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_chip_suspend);
 
+/* upstream: param { */
 /*
  * The calibration back after a reset if the firmware is the same (as
  * sentral-warmstart checks a saved file), else the chip's offsets read.
@@ -1693,6 +1843,7 @@ static int em7180_restore_calibration(struct em7180_data *data, u16 rom,
 	return em7180_accel_offset_fetch(data);
 }
 
+/* upstream: } */
 /*
  * One attempt at resuming, or at recovering from a reset. @lost is set once
  * a power loss was seen (a failed attempt may have set the chip running,
@@ -1702,7 +1853,7 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 			u16 *ram)
 {
 	unsigned int status = 0;
-	bool appnote;
+	bool appnote; /* upstream: cal */
 	int ret, err;
 
 	ret = read_poll_timeout(em7180_read_status, err, !err,
@@ -1721,13 +1872,17 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 		*ram = data->ram_version;
 	}
 	*lost = true;
-	data->cal.valid = false;
+	data->cal.valid = false; /* upstream: cal */
+	/* upstream: param { */
 	/* The firmware may be another, with another latency */
 	data->ack_min_us = 0;
+	/* upstream: } */
 
 	ret = em7180_wait_firmware(data, &status);
+	/* upstream: upload { */
 	if (!ret || ret == -ENODEV)
 		ret = em7180_upload(data, ret);
+	/* upstream: } */
 	if (ret) {
 		dev_err(data->dev,
 			"firmware not ready after a power loss (SentralStatus 0x%02x): %d\n",
@@ -1738,13 +1893,20 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 	ret = em7180_read_versions(data);
 	if (ret)
 		return ret;
+	/* upstream: cal { */
 	/* Other firmware may keep other things in 0x43-0x4E */
 	appnote = data->appnote;
 	if (*ram != data->ram_version)
 		data->appnote = false;
+	/* upstream: } */
 	ret = em7180_chip_configure(data, true);
+	/* upstream: param { */
 	if (!ret)
 		ret = em7180_restore_calibration(data, *rom, *ram);
+	/* upstream: } */
+	/* upstream: !cal: return ret; */
+/* upstream: !cal: } */
+	/* upstream: cal { */
 	if (ret || *ram == data->ram_version)
 		return ret;
 
@@ -1758,6 +1920,8 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 
 	return ret;
 }
+
+/* upstream: } */
 
 /**
  * em7180_chip_resume() - run again, restoring the chip after a power loss
@@ -1780,12 +1944,14 @@ int em7180_chip_resume(struct em7180_data *data)
 	ret = em7180_chip_restore(data, &lost, &rom, &ram);
 	if (ret && ret != -ETIMEDOUT && ret != -ENODEV)
 		ret = em7180_chip_restore(data, &lost, &rom, &ram);
+	/* upstream: health { */
 	/*
 	 * Its last write ended any transfer left open, which the recovery
 	 * dropped at suspend was to end: the next recovery owes it nothing.
 	 */
 	if (!ret)
 		data->xfer_stuck = false;
+	/* upstream: } */
 
 	return ret;
 }
@@ -1803,11 +1969,11 @@ static int em7180_suspend(struct device *dev)
 		return ret;
 	if (data->irq)
 		disable_irq(data->irq);
-	em7180_recover_stop(data);
+	em7180_recover_stop(data); /* upstream: health */
 
 	ret = em7180_chip_suspend(data);
 	if (ret) {
-		em7180_recover_start(data);
+		em7180_recover_start(data); /* upstream: health */
 		if (data->irq)
 			enable_irq(data->irq);
 		em7180_resume_triggering(indio_dev);
@@ -1822,8 +1988,10 @@ static int em7180_resume(struct device *dev)
 	struct em7180_data *data = iio_priv(indio_dev);
 	int ret;
 
+	/* upstream: health { */
 	/* A restore that fails asks for a recovery */
 	em7180_recover_start(data);
+	/* upstream: } */
 	ret = em7180_chip_resume(data);
 	if (data->irq)
 		enable_irq(data->irq);

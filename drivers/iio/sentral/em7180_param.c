@@ -25,12 +25,6 @@
 #include "em7180_core.h"
 #include "em7180_compat.h"
 
-#define EM7180_F32_SIGN			BIT(31)
-#define EM7180_F32_EXP_MASK		GENMASK(30, 23)
-#define EM7180_F32_FRAC_MASK		GENMASK(22, 0)
-#define EM7180_F32_BIAS			127
-#define EM7180_F32_FRAC_BITS		23
-
 /* No document gives the acknowledge latency; EM's driver allows 1 s */
 #define EM7180_ACK_TIMEOUT_US		1000000U
 #define EM7180_ACK_WAIT_INIT_US		1000U
@@ -142,45 +136,6 @@ int em7180_float_g_to_lsb(u32 bits, int *lsb)
 	return 0;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_float_g_to_lsb);
-
-/**
- * em7180_float_to_fixed() - float32 to signed fixed point
- * @bits: IEEE-754 single precision bit pattern
- * @frac_bits: number of fraction bits of the result, 0..30
- *
- * Rounds halves away from zero; saturates (±Inf too); NaN gives 0.
- *
- * Return: round(value * 2^frac_bits), saturated.
- */
-s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits)
-{
-	int e = (bits & EM7180_F32_EXP_MASK) >> EM7180_F32_FRAC_BITS;
-	bool neg = bits & EM7180_F32_SIGN;
-	u32 mant = bits & EM7180_F32_FRAC_MASK;
-	u32 val;
-	int shift;
-
-	if (e == 0xff && mant)
-		return 0;
-	/* |value| >= 2^(31 - frac_bits) does not fit */
-	if (e >= EM7180_F32_BIAS + 31 - (int)frac_bits)
-		return neg ? S32_MIN : S32_MAX;
-	if (!e)
-		return 0;	/* below 2^-126 */
-
-	/* value * 2^frac_bits = mant * 2^-shift with the hidden bit in mant */
-	mant |= BIT(EM7180_F32_FRAC_BITS);
-	shift = EM7180_F32_BIAS + EM7180_F32_FRAC_BITS - (int)frac_bits - e;
-	if (shift <= 0)
-		val = mant << -shift;
-	else if (shift > 25)
-		val = 0;
-	else
-		val = (mant + BIT(shift - 1)) >> shift;
-
-	return neg ? -(s32)val : (s32)val;
-}
-EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
 
 /*
  * Poll ParamAcknowledge (@len bytes: 5 take SavedParam along) until it
@@ -326,7 +281,7 @@ static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 		ret = regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, cal,
 				       EM7180_CAL_BLOCK_LEN);
 	/* upstream: } */
-	ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, regs, 1); /* upstream: !cal */
+	/* upstream: !cal: ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, regs, 1); */
 	if (ret)
 		return ret;
 	/* upstream: cal { */
