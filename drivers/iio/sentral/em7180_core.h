@@ -15,8 +15,8 @@
 #include <linux/pm.h>
 #include <linux/regmap.h>
 #include <linux/types.h>
-#include <linux/wait.h>
-#include <linux/workqueue.h>
+#include <linux/wait.h> /* upstream: param */
+#include <linux/workqueue.h> /* upstream: health */
 
 #include "em7180_compat.h"
 
@@ -59,7 +59,7 @@
 #define EM7180_HOST_CTRL_UPLOAD		BIT(1) /* upstream: upload */
 #define EM7180_EVENT_CPU_RESET		BIT(0)
 #define EM7180_EVENT_ERROR		BIT(1)
-#define EM7180_EVENT_FEATURE		BIT(6)
+#define EM7180_EVENT_FEATURE		BIT(6) /* upstream: feature */
 #define EM7180_SENTRAL_UPLOAD_DONE	BIT(1)
 #define EM7180_SENTRAL_STANDBY		BIT(3)
 #define EM7180_ALGO_STATUS_HALTED	BIT(0)
@@ -82,9 +82,11 @@
 #define EM7180_PARAM_WRITE		BIT(7) /* upstream: param */
 #define EM7180_PARAM_MAX		127 /* upstream: param */
 
+/* upstream: param { */
 /* Warm start: parameters 1..35, accel offsets (float g) in 27..29 */
 #define EM7180_WS_NUM_PARAMS		35
 #define EM7180_WS_SIZE			(EM7180_WS_NUM_PARAMS * 4)
+/* upstream: } */
 
 /* upstream: param { */
 /*

@@ -19,7 +19,7 @@
 #include <linux/firmware.h> /* upstream: param */
 #include <linux/interrupt.h>
 #include <linux/iopoll.h>
-#include <linux/jiffies.h>
+#include <linux/jiffies.h> /* upstream: param */
 #include <linux/limits.h>
 #include <linux/lockdep.h>
 #include <linux/math.h>
@@ -29,16 +29,16 @@
 #include <linux/pm.h>
 #include <linux/regmap.h>
 #include <linux/regulator/consumer.h>
-#include <linux/slab.h>
+#include <linux/slab.h> /* upstream: param */
 #include <linux/string.h>
 #include <linux/sysfs.h>
 #include <linux/types.h>
-#include <linux/wait.h>
+#include <linux/wait.h> /* upstream: param */
 #include <linux/workqueue.h>
 
 #include <linux/iio/buffer.h>
 #include <linux/iio/iio.h>
-#include <linux/iio/sysfs.h>
+#include <linux/iio/sysfs.h> /* upstream: cal */
 #include <linux/iio/trigger.h>
 #include <linux/iio/trigger_consumer.h>
 #include <linux/iio/triggered_buffer.h>
@@ -96,9 +96,11 @@
 #define EM7180_READY_POLL_US		5000
 #define EM7180_READY_TIMEOUT_US		200000
 #define EM7180_EVENT_READ_TRIES		3
+/* upstream: param { */
 /* The slowest scan period (magnetometer at 1 Hz), and scans to wait for */
 #define EM7180_SCAN_WAIT_MS		1100
 #define EM7180_SCAN_WAIT_TRIES		8
+/* upstream: } */
 
 enum em7180_scan {
 	EM7180_SCAN_QUAT,
