@@ -107,8 +107,7 @@ bool em7180_cal_layout(u8 algo, const u8 *regs, bool agree)
 {
 	u8 status = regs[0];
 	u8 flags = regs[EM7180_REG_CAL_FLAGS - EM7180_REG_CAL_STATUS];
-	u16 score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE -
-					     EM7180_REG_CAL_STATUS]);
+	u16 score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE - EM7180_REG_CAL_STATUS]);
 
 	if (!memchr_inv(regs, 0, EM7180_CAL_BLOCK_LEN) ||
 	    status & ~(EM7180_CAL_STATUS_MASK | EM7180_CAL_TRANSIENT_MASK) ||
@@ -119,8 +118,7 @@ bool em7180_cal_layout(u8 algo, const u8 *regs, bool agree)
 
 	return !(status & EM7180_CAL_TRANSIENT_MASK) ==
 	       !(algo & EM7180_ALGO_STATUS_TRANSIENT) &&
-	       (FIELD_GET(EM7180_CAL_STATUS_MASK, status) ==
-		EM7180_CAL_STATUS_COMPLETE) ==
+	       (FIELD_GET(EM7180_CAL_STATUS_MASK, status) == EM7180_CAL_STATUS_COMPLETE) ==
 	       !!(algo & EM7180_ALGO_STATUS_STABLE);
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_layout);
@@ -147,8 +145,7 @@ void em7180_cal_update(struct em7180_data *data, const u8 *regs)
 			 EM7180_CAL_BLOCK_LEN, regs);
 		return;
 	}
-	data->cal.score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE -
-						   EM7180_REG_CAL_STATUS]);
+	data->cal.score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE - EM7180_REG_CAL_STATUS]);
 	data->cal.flags |= regs[EM7180_REG_CAL_FLAGS - EM7180_REG_CAL_STATUS];
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_update);
@@ -159,23 +156,19 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_cal_update);
  * SentralStatus because a chip that reset itself without an interrupt
  * waits in standby.
  */
-static int em7180_cal_read(struct em7180_data *data, u8 *regs, bool block,
-			   bool split)
+static int em7180_cal_read(struct em7180_data *data, u8 *regs, bool block, bool split)
 {
 	int ret;
 
 	if (!block || split || data->ptr_stops) {
-		ret = regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
-				       regs, 2);
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS, regs, 2);
 		if (ret || !block)
 			return ret;
-		return regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS,
-					&regs[EM7180_CAL_OFF],
+		return regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, &regs[EM7180_CAL_OFF],
 					EM7180_CAL_BLOCK_LEN);
 	}
 
-	return regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS, regs,
-				EM7180_CAL_READ_LEN);
+	return regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS, regs, EM7180_CAL_READ_LEN);
 }
 
 /**
@@ -212,9 +205,8 @@ static int em7180_cal_refresh(struct em7180_data *data)
 
 	lockdep_assert_held(&data->lock);
 
-	if (data->cal.valid &&
-	    time_before(jiffies, data->cal.read_at +
-			msecs_to_jiffies(EM7180_CAL_MAX_AGE_MS)))
+	if (data->cal.valid && time_before(jiffies,
+	    data->cal.read_at + msecs_to_jiffies(EM7180_CAL_MAX_AGE_MS)))
 		return 0;
 
 	data->cal.valid = false;
@@ -249,8 +241,7 @@ void em7180_cal_saved(struct em7180_data *data)
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_saved);
 
-ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
-			char *buf)
+ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr, char *buf)
 {
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
 	unsigned int what = to_iio_dev_attr(attr)->address;
@@ -274,10 +265,8 @@ ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 		return sysfs_emit(buf, "%s%d.%03d\n", milli < 0 ? "-" : "",
 				  abs(milli) / 1000, abs(milli) % 1000);
 	case EM7180_CAL_ATTR_MAG_UPDATE:
-		return sysfs_emit(buf, "%d\n",
-				  !!(cal.flags & EM7180_CAL_FLAG_MAG_UPDATE));
+		return sysfs_emit(buf, "%d\n", !!(cal.flags & EM7180_CAL_FLAG_MAG_UPDATE));
 	default:
-		return sysfs_emit(buf, "%d\n",
-				  !!(cal.flags & EM7180_CAL_FLAG_GBIAS_UPDATE));
+		return sysfs_emit(buf, "%d\n", !!(cal.flags & EM7180_CAL_FLAG_GBIAS_UPDATE));
 	}
 }

@@ -1,9 +1,7 @@
 /* SPDX-License-Identifier: GPL-2.0-only */
 /*
- * PNI SENtral / EM Microelectronic EM7180 sensor-fusion hub: what the core
- * files and the KUnit suite share. Register facts follow EM's GPL host
- * driver (em718x_registers.h), the Sony em718x driver and PNI's warm start
- * application note.
+ * PNI SENtral / EM7180: registers as EM's GPL host driver (em718x_registers.h)
+ * and the Sony em718x driver have them
  */
 #ifndef _EM7180_CORE_H_
 #define _EM7180_CORE_H_
@@ -48,9 +46,11 @@
 #define EM7180_REG_PARAM_REQ		0x64
 #define EM7180_REG_ROM_VERSION		0x70
 #define EM7180_REG_RAM_VERSION		0x72
+/* upstream: upload { */
 #define EM7180_REG_UPLOAD_ADDR		0x94	/* 0x94..0x95, u16 BE */
 #define EM7180_REG_UPLOAD_DATA		0x96
 #define EM7180_REG_CRC_HOST		0x97	/* 0x97..0x9A, u32 LE */
+/* upstream: } */
 #define EM7180_REG_RESET_REQ		0x9B
 #define EM7180_REG_PASSTHRU_STATUS	0x9E
 #define EM7180_REG_PASSTHRU_CTRL	0xA0
@@ -113,10 +113,7 @@ struct em7180_caldata {
 #define EM7180_CALDATA_SIZE		sizeof(struct em7180_caldata)
 /* upstream: } */
 
-/*
- * Quaternion, magnetometer, accelerometer, gyroscope, each with its TIME,
- * then the feature sensors' data and TIME
- */
+/* Quaternion, magnetometer, accelerometer, gyroscope, features, each with TIME */
 #define EM7180_BURST_LEN		(EM7180_REG_FEATURE0 + 8)
 #define EM7180_FEATURE_MAX		3
 
@@ -175,7 +172,7 @@ struct em7180_data {
 	u16 rom_version;
 	u16 ram_version;
 	/* upstream: cal { */
-	/* 0x43, 0x44, 0x4D-0x4E as the application note has them */
+	/* The calibration registers 0x43, 0x44, 0x4D-0x4E */
 	bool appnote_attrs;	/* at probe: the attributes exist */
 	bool appnote;		/* the firmware running has them */
 	/* upstream: } */
@@ -214,7 +211,6 @@ struct em7180_data {
 	const struct firmware *fw;
 	const char *fw_name;
 	/* upstream: } */
-	/* Scans, and the pauses they must not straddle */
 	wait_queue_head_t wq;		/* scans and the end of passthrough */ /* upstream: param */
 	s64 timestamp;			/* of the last interrupt */
 	/* upstream: param { */
@@ -234,23 +230,21 @@ struct em7180_data {
 };
 
 void em7180_lock(struct em7180_data *data);
-/* The driver's lock, with the hub out of passthrough */
-DEFINE_GUARD(em7180, struct em7180_data *, em7180_lock(_T),
-	     mutex_unlock(&_T->lock))
+DEFINE_GUARD(em7180, struct em7180_data *, em7180_lock(_T), mutex_unlock(&_T->lock))
 s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits);
 int em7180_chip_suspend(struct em7180_data *data);
 int em7180_chip_resume(struct em7180_data *data);
-int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
-			u16 *ram);
-/* em7180_id_line(): "ProductID 0x80 RevisionID 0x02 ROM 0x... RAM 0x... eeprom" */
+/* upstream: health { */
+int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom, u16 *ram);
+/* upstream: } */
+
 #define EM7180_ID_LINE_LEN		64
 void em7180_id_line(struct em7180_data *data, char *buf, size_t len);
 /* upstream: param { */
 void em7180_resumed(struct em7180_data *data);
 
 int em7180_param_pointer(struct em7180_data *data);
-int em7180_params_read(struct em7180_data *data, unsigned int first,
-		       unsigned int count, u32 *vals);
+int em7180_params_read(struct em7180_data *data, unsigned int first, unsigned int count, u32 *vals);
 int em7180_params_write(struct em7180_data *data, unsigned int first,
 			unsigned int count, const u32 *vals);
 
@@ -258,27 +252,20 @@ bool em7180_float_is_finite(u32 bits);
 u32 em7180_lsb_to_float_g(int lsb);
 int em7180_float_g_to_lsb(u32 bits, int *lsb);
 
-int em7180_read_calibbias(struct em7180_data *data, unsigned int axis,
-			  int *val);
-int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
-			   int val);
+int em7180_read_calibbias(struct em7180_data *data, unsigned int axis, int *val);
+int em7180_write_calibbias(struct em7180_data *data, unsigned int axis, int val);
 
-int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
-			   bool write);
-int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
-			     loff_t off, size_t count);
+int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count, bool write);
+int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf, loff_t off, size_t count);
 #if IS_ENABLED(CONFIG_KUNIT)
-int em7180_warmstart_read(struct em7180_data *data,
-			  struct em7180_caldata *cal);
-int em7180_caldata_apply(struct em7180_data *data, const u8 *blob,
-			 size_t size, const char *name);
+int em7180_warmstart_read(struct em7180_data *data, struct em7180_caldata *cal);
+int em7180_caldata_apply(struct em7180_data *data, const u8 *blob, size_t size, const char *name);
 #endif
 
 /* upstream: } */
 /* upstream: cal { */
 /* Attribute address: enum em7180_cal_attr */
-ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
-			char *buf);
+ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr, char *buf);
 int em7180_score_milli(u16 raw);
 int em7180_cal_level(u8 algo);
 bool em7180_cal_layout(u8 algo, const u8 *regs, bool agree);
@@ -305,25 +292,19 @@ void em7180_report_error(struct em7180_data *data);
 /* upstream: feature { */
 /* em7180_feature.c: barometer, humidity and temperature */
 int em7180_feature_layout(unsigned int flags, struct em7180_feature *feat);
-void em7180_feature_channels(const struct iio_chan_spec *base,
-			     unsigned int n_base,
-			     const struct em7180_feature *feat,
-			     unsigned int n_feat, struct iio_chan_spec *chans);
+void em7180_feature_channels(const struct iio_chan_spec *base, unsigned int n_base,
+			     const struct em7180_feature *feat, unsigned int n_feat,
+			     struct iio_chan_spec *chans);
 int em7180_feature_probe(struct iio_dev *indio_dev,
 			 const struct iio_chan_spec *base, unsigned int n_base);
 int em7180_feature_configure(struct em7180_data *data, bool from_cache);
-const struct em7180_feature *em7180_feature_find(struct em7180_data *data,
-						 enum iio_chan_type type);
-int em7180_feature_read_info(struct em7180_data *data,
-			     const struct em7180_feature *f, int *vals,
+const struct em7180_feature *em7180_feature_find(struct em7180_data *data, enum iio_chan_type type);
+int em7180_feature_read_info(struct em7180_data *data, const struct em7180_feature *f, int *vals,
 			     long mask);
-int em7180_feature_read_freq(struct em7180_data *data,
-			     const struct em7180_feature *f, int *hz);
-int em7180_feature_write_freq(struct em7180_data *data,
-			      const struct em7180_feature *f, int hz);
+int em7180_feature_read_freq(struct em7180_data *data, const struct em7180_feature *f, int *hz);
+int em7180_feature_write_freq(struct em7180_data *data, const struct em7180_feature *f, int hz);
 int em7180_feature_read_avail(const int **vals, int *type, int *length);
-bool em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
-			 unsigned int best);
+bool em7180_feature_pace(struct em7180_data *data, const unsigned long *mask, unsigned int best);
 int em7180_feature_report(struct em7180_data *data);
 /* upstream: } */
 
@@ -338,8 +319,7 @@ int em7180_passthru_deselect(struct i2c_mux_core *muxc, u32 chan_id);
 
 /* upstream: upload { */
 /* em7180_upload.c: firmware from the host */
-int em7180_fw_check(const u8 *image, size_t size, u16 rom, char *why,
-		    size_t len);
+int em7180_fw_check(const u8 *image, size_t size, u16 rom, char *why, size_t len);
 int em7180_upload_probe(struct em7180_data *data, bool no_eeprom);
 int em7180_upload(struct em7180_data *data, int ret);
 /* upstream: } */

@@ -148,8 +148,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_g_to_lsb);
  * The least is a requested wait, not a time measured after a sleep: a
  * sleep's own overrun is then not added to every later parameter.
  */
-static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
-			    size_t len)
+static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf, size_t len)
 {
 	unsigned int first = data->ack_wait_us ?: EM7180_ACK_WAIT_INIT_US;
 	unsigned int wait = first;
@@ -160,10 +159,8 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 
 	for (;;) {
 		usleep_range(wait, wait + wait / 16 + 5);
-		took = min_t(s64, ktime_us_delta(ktime_get(), start),
-			     EM7180_ACK_TIMEOUT_US);
-		ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, buf,
-				       len);
+		took = min_t(s64, ktime_us_delta(ktime_get(), start), EM7180_ACK_TIMEOUT_US);
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, buf, len);
 		if (ret)
 			return ret;
 		if (buf[0] == req)
@@ -171,15 +168,13 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 		if (took >= EM7180_ACK_TIMEOUT_US)
 			return -ETIMEDOUT;
 		early = true;
-		wait = clamp(took / 8, EM7180_ACK_STEP_MIN_US,
-			     EM7180_ACK_STEP_MAX_US);
+		wait = clamp(took / 8, EM7180_ACK_STEP_MIN_US, EM7180_ACK_STEP_MAX_US);
 	}
 
 	if (early) {
 		data->ack_min_us = min(max(data->ack_min_us, first + first / 8),
 				       EM7180_ACK_WAIT_MAX_US);
-		data->ack_wait_us = clamp(took, data->ack_min_us,
-					  EM7180_ACK_WAIT_MAX_US);
+		data->ack_wait_us = clamp(took, data->ack_min_us, EM7180_ACK_WAIT_MAX_US);
 	} else {
 		data->ack_wait_us = max(first - first / 8, data->ack_min_us);
 	}
@@ -208,23 +203,20 @@ int em7180_param_pointer(struct em7180_data *data)
 
 	lockdep_assert_held(&data->lock);
 
-	ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM + 3, probe,
-				sizeof(probe)) ?:
+	ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM + 3, probe, sizeof(probe)) ?:
 	      regmap_read(data->regmap, EM7180_REG_LOAD_PARAM + 3, &val);
 	if (ret)
 		return ret;
 
 	data->ptr_stops = val != probe[0];
 	if (data->ptr_stops)
-		dev_info(data->dev,
-			 "register pointer stops at 0x63: one register per message\n");
+		dev_info(data->dev, "register pointer stops at 0x63: one register per message\n");
 	return 0;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_param_pointer);
 
 /* One request and its acknowledge; bit 7 set after the first (@start) */
-static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
-				u32 *out, bool start)
+static int em7180_param_request(struct em7180_data *data, u8 req, u32 in, u32 *out, bool start)
 {
 	bool stops = data->ptr_stops;
 	u8 buf[5];
@@ -233,8 +225,7 @@ static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
 	if (req & EM7180_PARAM_WRITE) {
 		put_unaligned_le32(in, buf);
 		buf[4] = req;
-		ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM, buf,
-					stops ? 4 : 5);
+		ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM, buf, stops ? 4 : 5);
 		if (!ret && stops)
 			ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, req);
 	} else {
@@ -242,13 +233,11 @@ static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
 	}
 	/* Never start on a request another user left behind */
 	if (!ret && start)
-		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
-				   EM7180_ALGO_CTRL_PARAM_XFER);
+		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, EM7180_ALGO_CTRL_PARAM_XFER);
 	if (!ret)
 		ret = em7180_param_ack(data, req, buf, out && !stops ? 5 : 1);
 	if (!ret && out && stops)
-		ret = regmap_bulk_read(data->regmap, EM7180_REG_SAVED_PARAM,
-				       &buf[1], 4);
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_SAVED_PARAM, &buf[1], 4);
 	if (!ret && out)
 		*out = get_unaligned_le32(&buf[1]);
 
@@ -262,8 +251,7 @@ static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
  * along (they belong to the state saved or replaced), on firmware that
  * keeps them there.
  */
-static int em7180_param_begin(struct em7180_data *data, u8 first_req,
-			      bool *started)
+static int em7180_param_begin(struct em7180_data *data, u8 first_req, bool *started)
 {
 	u8 regs[EM7180_ACK_CAL_LEN];
 	/* upstream: cal { */
@@ -292,9 +280,8 @@ static int em7180_param_begin(struct em7180_data *data, u8 first_req,
 		return 0;
 
 	*started = true;
-	return em7180_param_request(data,
-				    (first_req & ~EM7180_PARAM_WRITE) %
-				    EM7180_PARAM_MAX + 1, 0, &dummy, true);
+	return em7180_param_request(data, (first_req & ~EM7180_PARAM_WRITE) % EM7180_PARAM_MAX + 1,
+				    0, &dummy, true);
 }
 
 /* End the transfer on every path */
@@ -336,9 +323,8 @@ static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
 
 	ret = em7180_param_begin(data, first | write, &started);
 	for (i = 0; !ret && i < count; i++) {
-		ret = em7180_param_request(data, (first + i) | write,
-					   in ? in[i] : 0, out ? &out[i] : NULL,
-					   !started);
+		ret = em7180_param_request(data, (first + i) | write, in ? in[i] : 0,
+					   out ? &out[i] : NULL, !started);
 		started = true;
 	}
 	end = em7180_param_end(data);
@@ -360,8 +346,7 @@ static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
  * Return: 0, -EINVAL for a bad range, -ETIMEDOUT when a parameter is not
  * acknowledged within 1 s, or the bus error.
  */
-int em7180_params_read(struct em7180_data *data, unsigned int first,
-		       unsigned int count, u32 *vals)
+int em7180_params_read(struct em7180_data *data, unsigned int first, unsigned int count, u32 *vals)
 {
 	return em7180_param_xfer(data, first, count, NULL, vals);
 }
