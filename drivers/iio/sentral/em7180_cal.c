@@ -205,8 +205,8 @@ static int em7180_cal_refresh(struct em7180_data *data)
 
 	lockdep_assert_held(&data->lock);
 
-	if (data->cal.valid && time_before(jiffies,
-	    data->cal.read_at + msecs_to_jiffies(EM7180_CAL_MAX_AGE_MS)))
+	if (data->cal.valid &&
+	    time_before(jiffies, data->cal.read_at + msecs_to_jiffies(EM7180_CAL_MAX_AGE_MS)))
 		return 0;
 
 	data->cal.valid = false;

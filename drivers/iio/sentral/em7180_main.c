@@ -29,7 +29,6 @@
 #include <linux/sysfs.h>
 #include <linux/types.h>
 #include <linux/wait.h> /* upstream: param */
-#include <linux/workqueue.h>
 
 #include <linux/iio/buffer.h>
 #include <linux/iio/iio.h>
@@ -795,7 +794,8 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 
 	for (;;) {
 		ts = READ_ONCE(data->scan_ts);
-		ret = wait_event_killable_timeout(data->wq, READ_ONCE(data->scan_ts) != ts ||
+		ret = wait_event_killable_timeout(data->wq,
+						  READ_ONCE(data->scan_ts) != ts ||
 						  !READ_ONCE(data->pace_event),
 						  msecs_to_jiffies(EM7180_SCAN_WAIT_MS));
 		if (ret < 0)
@@ -1343,24 +1343,7 @@ static int em7180_chip_configure(struct em7180_data *data, bool from_cache)
 	return regmap_read(data->regmap, EM7180_REG_EVENT_STATUS, &val);
 }
 
-/* Not confirmed is no reason to keep the system awake */
-static int em7180_standby(struct em7180_data *data)
-{
-	unsigned int status;
-	int ret;
-
-	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, EM7180_ALGO_CTRL_STANDBY);
-	if (!ret)
-		ret = regmap_read_poll_timeout(data->regmap, EM7180_REG_ALGO_STATUS, status,
-					       status & EM7180_ALGO_STATUS_HALTED,
-					       EM7180_STANDBY_POLL_US, EM7180_STANDBY_TIMEOUT_US);
-	if (ret)
-		dev_warn(data->dev, "standby not confirmed (%d); resume runs the algorithm again\n",
-			 ret);
-
-	return 0;
-}
-
+/* upstream: param { */
 /* Supplies that stay on leave i2c-dev users the chip quiet but running */
 static void em7180_unbind_action(void *arg)
 {
@@ -1376,7 +1359,6 @@ static void em7180_unbind_action(void *arg)
 		dev_warn(data->dev, "chip not left running\n");
 }
 
-/* upstream: param { */
 /**
  * em7180_caldata_apply() - restore a saved calibration file's blob
  * @data: driver state, with @data->lock held
@@ -1559,9 +1541,12 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to configure the chip\n");
 
+	/* upstream: param { */
 	ret = devm_add_action_or_reset(dev, em7180_unbind_action, data);
 	if (ret)
 		return ret;
+
+	/* upstream: } */
 
 	/* upstream: health { */
 	/*
@@ -1621,22 +1606,30 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 }
 EXPORT_SYMBOL_NS_GPL(em7180_core_probe, "IIO_EM7180");
 
-/* The warm start read first, for resume to write back after a power loss */
+/* Not confirmed is no reason to keep the system awake: 0 */
 int em7180_chip_suspend(struct em7180_data *data)
 {
-	/* upstream: param { */
-	struct em7180_caldata cal;
+	struct em7180_caldata cal; /* upstream: param */
+	unsigned int status;
 	int ret;
-	/* upstream: } */
 
 	guard(em7180)(data);
 	/* upstream: param { */
+	/* The warm start read, for resume to write back after a power loss */
 	ret = em7180_warmstart_read(data, &cal);
 	if (ret)
 		dev_warn(data->dev, "cannot read the calibration before sleep: %d\n", ret);
 	/* upstream: } */
+	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, EM7180_ALGO_CTRL_STANDBY);
+	if (!ret)
+		ret = regmap_read_poll_timeout(data->regmap, EM7180_REG_ALGO_STATUS, status,
+					       status & EM7180_ALGO_STATUS_HALTED,
+					       EM7180_STANDBY_POLL_US, EM7180_STANDBY_TIMEOUT_US);
+	if (ret)
+		dev_warn(data->dev, "standby not confirmed (%d); resume runs the algorithm again\n",
+			 ret);
 
-	return em7180_standby(data);
+	return 0;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_chip_suspend);
 
@@ -1792,15 +1785,7 @@ static int em7180_suspend(struct device *dev)
 		disable_irq(data->irq);
 	em7180_recover_stop(data); /* upstream: health */
 
-	ret = em7180_chip_suspend(data);
-	if (ret) {
-		em7180_recover_start(data); /* upstream: health */
-		if (data->irq)
-			enable_irq(data->irq);
-		em7180_resume_triggering(indio_dev);
-	}
-
-	return ret;
+	return em7180_chip_suspend(data);
 }
 
 static int em7180_resume(struct device *dev)
