@@ -52,8 +52,10 @@
 #define EM7180_REG_CRC_HOST		0x97	/* 0x97..0x9A, u32 LE */
 /* upstream: } */
 #define EM7180_REG_RESET_REQ		0x9B
+/* upstream: passthru { */
 #define EM7180_REG_PASSTHRU_STATUS	0x9E
 #define EM7180_REG_PASSTHRU_CTRL	0xA0
+/* upstream: } */
 
 #define EM7180_HOST_CTRL_RUN		BIT(0)
 #define EM7180_HOST_CTRL_UPLOAD		BIT(1) /* upstream: upload */
