@@ -1238,50 +1238,41 @@ static int em7180_read_status(struct em7180_data *data, unsigned int *status)
 	return regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, status);
 }
 
+/* A resetting chip may not acknowledge: a bus error is one more poll */
+static int em7180_wait_firmware(struct em7180_data *data, unsigned int *status)
+{
+	int ret, err;
+
+	ret = read_poll_timeout(em7180_read_status, err,
+				!err && (*status & (EM7180_SENTRAL_UPLOAD_DONE |
+						    EM7180_SENTRAL_UPLOAD_ERR |
+						    EM7180_SENTRAL_NO_EEPROM)),
+				EM7180_UPLOAD_POLL_US, EM7180_UPLOAD_TIMEOUT_US, false, data, status);
+	if (ret)
+		return err ?: ret;
+	if (*status & EM7180_SENTRAL_NO_EEPROM)
+		return -ENODEV;
+	return *status & EM7180_SENTRAL_UPLOAD_ERR ? -EIO : 0;
+}
+
+/* upstream: health { */
 static int em7180_reset(struct em7180_data *data, const char *why, unsigned int status)
 {
 	dev_warn(data->dev, "%s (SentralStatus 0x%02x): resetting it\n", why, status);
 	return regmap_write(data->regmap, EM7180_REG_RESET_REQ, EM7180_RESET_REQ_RESET);
 }
 
-/*
- * The upload from EEPROM; a chip found stuck is reset once, as the USFS
- * host libraries do. A resetting chip may not acknowledge: one more poll.
- */
-static int em7180_wait_firmware(struct em7180_data *data, unsigned int *status)
+/* The upload from EEPROM, reset once when it fails, as the USFS host libraries do */
+static int em7180_wait_boot(struct em7180_data *data, unsigned int *status)
 {
-	int ret, err, tries;
+	int ret = em7180_wait_firmware(data, status);
 
-	for (tries = 0; tries < 2; tries++) {
-		if (tries) {
-			ret = em7180_reset(data, "firmware upload not done",
-					   *status);
-			if (ret)
-				return ret;
-		}
-
-		ret = read_poll_timeout(em7180_read_status, err,
-					!err && (*status & (EM7180_SENTRAL_UPLOAD_DONE |
-							    EM7180_SENTRAL_UPLOAD_ERR |
-							    EM7180_SENTRAL_NO_EEPROM)),
-					EM7180_UPLOAD_POLL_US,
-					EM7180_UPLOAD_TIMEOUT_US, false, data,
-					status);
-		if (ret && err)
-			return err;
-		if (!ret && (*status & EM7180_SENTRAL_NO_EEPROM))
-			return -ENODEV;
-		if (!ret && (*status & EM7180_SENTRAL_UPLOAD_DONE) &&
-		    !(*status & EM7180_SENTRAL_UPLOAD_ERR))
-			return 0;
-	}
-
-	if (ret)
+	if (ret != -ETIMEDOUT && (ret != -EIO || !(*status & EM7180_SENTRAL_UPLOAD_ERR)))
 		return ret;
-	return *status & EM7180_SENTRAL_NO_EEPROM ? -ENODEV : -EIO;
+	ret = em7180_reset(data, "firmware upload not done", *status);
+	return ret ?: em7180_wait_firmware(data, status);
 }
 
-/* upstream: health { */
 /*
  * A host reboot without a power cycle can leave the chip idle with its
  * firmware loaded until a ResetRequest (kriswiner/EM7180_SENtral_sensor_hub
@@ -1305,7 +1296,7 @@ static int em7180_check_alive(struct em7180_data *data, unsigned int *status)
 	ret = em7180_reset(data, "chip idle with its firmware loaded", *status);
 	if (ret)
 		return ret;
-	return em7180_wait_firmware(data, status);
+	return em7180_wait_boot(data, status);
 }
 
 /* upstream: } */
@@ -1510,7 +1501,8 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
-	ret = em7180_wait_firmware(data, &status);
+	ret = em7180_wait_boot(data, &status); /* upstream: health */
+	/* upstream: !health: ret = em7180_wait_firmware(data, &status); */
 	if (!ret) /* upstream: health */
 		ret = em7180_check_alive(data, &status); /* upstream: health */
 	if (ret && ret != -ENODEV) /* upstream: upload */
@@ -1700,7 +1692,7 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom, u16 *ram
 	data->ack_min_us = 0;
 	/* upstream: } */
 
-	ret = em7180_wait_firmware(data, &status);
+	ret = em7180_wait_boot(data, &status);
 	/* upstream: upload { */
 	if (!ret || ret == -ENODEV)
 		ret = em7180_upload(data, ret);
