@@ -4,12 +4,12 @@
  *
  * Every firmware reports it in AlgorithmStatus (0x38), part of the chip's
  * fixed host interface (EM's em718x_registers.h; the USFS host libraries
- * judge calibration by its CalibStable bit). PNI's warm start application
- * note adds a status (0x43), update flags (0x44, clear on read) and a score
- * (0x4D-0x4E) in general-purpose registers, which other firmware uses for
- * other data: the USFS utilities read linear acceleration from 0x3F-0x44
- * (Greg Tomasch's EM7180_SENtral_Calibration). So those are reported only
- * while they read as the note defines them, and agree with AlgorithmStatus.
+ * judge calibration by its CalibStable bit). Some firmware adds a status
+ * (0x43), update flags (0x44, clear on read) and a score (0x4D-0x4E) in
+ * general-purpose registers, which other firmware uses for other data: the
+ * USFS utilities read linear acceleration from 0x3F-0x44 (Greg Tomasch's
+ * EM7180_SENtral_Calibration). So those are reported only while they read
+ * in that layout, and agree with AlgorithmStatus.
  *
  * One read serves every attribute read for EM7180_CAL_MAX_AGE_MS, as hwmon
  * drivers cache readings. The chip raises no interrupt when they change.
@@ -58,7 +58,7 @@
  * em7180_score_milli() - the calibration score in thousandths of a percent
  * @raw: CalScore register pair (0x4D | 0x4E << 8)
  *
- * The application note defines the score as (raw - 32768) / 32768 * 100 %.
+ * The score is (raw - 32768) / 32768 * 100 %.
  *
  * Return: the score in 0.001 %, rounded to nearest, -100000 to 99997.
  */
@@ -92,12 +92,12 @@ int em7180_cal_level(u8 algo)
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_level);
 
 /**
- * em7180_cal_layout() - do 0x43..0x4E read as the application note has them?
+ * em7180_cal_layout() - do 0x43..0x4E read as the calibration registers?
  * @algo: AlgorithmStatus of the same read
  * @regs: registers 0x43..0x4E
  * @agree: also require that status and transient agree with @algo
  *
- * The note defines bits 3:0 of 0x43 and 1:0 of 0x44, and a score of 0 % or
+ * The layout defines bits 3:0 of 0x43 and 1:0 of 0x44, and a score of 0 % or
  * more; complete means stable, and both registers carry MagTransient. All
  * zero is nothing yet, not a score.
  *
@@ -129,7 +129,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_cal_layout);
  * @regs: the registers, as read in one burst
  *
  * The update flags latch until the next warm start transfer. A read that
- * the note's layout cannot hold ends their reporting for this firmware.
+ * the layout cannot hold ends their reporting for this firmware.
  */
 void em7180_cal_update(struct em7180_data *data, const u8 *regs)
 {
@@ -172,7 +172,7 @@ static int em7180_cal_read(struct em7180_data *data, u8 *regs, bool block, bool 
 }
 
 /**
- * em7180_cal_detect() - does the firmware running have the note's registers?
+ * em7180_cal_detect() - does the firmware running have the calibration registers?
  * @data: driver state, with @data->lock held, the chip running
  *
  * Asked at probe, before any parameter transfer has shown how the register

@@ -261,7 +261,7 @@ static int em7180_test_init(struct kunit *test)
 
 	t->data->dev = t->dev;
 	t->data->regmap = map;
-	/* Probe found firmware with the application note's registers */
+	/* Probe found firmware with the calibration registers */
 	t->data->appnote_attrs = true;
 	t->data->appnote = true;
 	mutex_init(&t->data->lock);
@@ -2157,7 +2157,7 @@ static void em7180_test_cal_level(struct kunit *test)
 }
 
 /*
- * The application note's registers, against what a USFS board keeps there
+ * The calibration registers, against what a USFS board keeps there
  * (linear acceleration in 0x3F-0x44, 0x4D-0x4E not a score)
  */
 static void em7180_test_cal_layout(struct kunit *test)

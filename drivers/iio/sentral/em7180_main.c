@@ -878,7 +878,7 @@ static em7180_bin_attribute *em7180_bin_attr_const em7180_bin_attrs[] = {
 
 /* upstream: } */
 /* upstream: cal { */
-/* Asked once, at registration: the application note's, per firmware */
+/* Asked once, at registration: the calibration registers, per firmware */
 static umode_t em7180_attr_is_visible(struct kobject *kobj, struct attribute *attr, int n)
 {
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(kobj_to_dev(kobj)));

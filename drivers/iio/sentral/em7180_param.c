@@ -55,8 +55,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_is_finite);
  * em7180_lsb_to_float_g() - accelerometer offset in LSB to float32 in g
  * @lsb: offset in accelerometer LSB (1 LSB = 0.000488 g)
  *
- * Nearest float32 to @lsb * 0.000488, ties to even, as the application
- * note's Table 1 expects: -47 gives 0xBCBBE447.
+ * Nearest float32 to @lsb * 0.000488, ties to even: -47 gives 0xBCBBE447.
  *
  * Return: the IEEE-754 single precision bit pattern.
  */
