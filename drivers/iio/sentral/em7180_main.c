@@ -242,10 +242,8 @@ static const struct iio_chan_spec_ext_info em7180_ext_info[] = {
 	.channel2 = IIO_MOD_##_axis,					\
 	.address = _reg,						\
 	.info_mask_separate = BIT(IIO_CHAN_INFO_RAW) | (_sep),		\
-	.info_mask_shared_by_type = BIT(IIO_CHAN_INFO_SCALE) |		\
-				    BIT(IIO_CHAN_INFO_SAMP_FREQ),	\
-	.info_mask_shared_by_type_available =				\
-				    BIT(IIO_CHAN_INFO_SAMP_FREQ),	\
+	.info_mask_shared_by_type = BIT(IIO_CHAN_INFO_SCALE) | BIT(IIO_CHAN_INFO_SAMP_FREQ), \
+	.info_mask_shared_by_type_available = BIT(IIO_CHAN_INFO_SAMP_FREQ),	\
 	.scan_index = _index,						\
 	.scan_type = {							\
 		.sign = 's',						\
@@ -262,8 +260,7 @@ static const struct iio_chan_spec em7180_channels[] = {
 		.modified = 1,
 		.channel2 = IIO_MOD_QUATERNION,
 		.address = EM7180_REG_QX,
-		.info_mask_separate = BIT(IIO_CHAN_INFO_RAW) |
-				      BIT(IIO_CHAN_INFO_SCALE),
+		.info_mask_separate = BIT(IIO_CHAN_INFO_RAW) | BIT(IIO_CHAN_INFO_SCALE),
 		.scan_index = EM7180_SCAN_QUAT,
 		.scan_type = {
 			.sign = 's',
@@ -1247,7 +1244,8 @@ static int em7180_wait_firmware(struct em7180_data *data, unsigned int *status)
 				!err && (*status & (EM7180_SENTRAL_UPLOAD_DONE |
 						    EM7180_SENTRAL_UPLOAD_ERR |
 						    EM7180_SENTRAL_NO_EEPROM)),
-				EM7180_UPLOAD_POLL_US, EM7180_UPLOAD_TIMEOUT_US, false, data, status);
+				EM7180_UPLOAD_POLL_US, EM7180_UPLOAD_TIMEOUT_US, false, data,
+				status);
 	if (ret)
 		return err ?: ret;
 	if (*status & EM7180_SENTRAL_NO_EEPROM)
