@@ -110,7 +110,9 @@ static const struct regmap_range em7180_readable_ranges[] = {
 	/* UploadData too: regmap writes only readable registers noinc */
 	regmap_reg_range(EM7180_REG_UPLOAD_ADDR, EM7180_REG_CRC_HOST + 3),
 	/* upstream: } */
-	regmap_reg_range(EM7180_REG_PASSTHRU_STATUS, EM7180_REG_PASSTHRU_CTRL), /* upstream: passthru */
+	/* upstream: passthru { */
+	regmap_reg_range(EM7180_REG_PASSTHRU_STATUS, EM7180_REG_PASSTHRU_CTRL),
+	/* upstream: } */
 };
 
 static const struct regmap_access_table em7180_readable_table = {
@@ -123,7 +125,9 @@ static const struct regmap_range em7180_writeable_ranges[] = {
 	regmap_reg_range(EM7180_REG_ALGO_CTRL, EM7180_REG_PARAM_REQ),
 	regmap_reg_range(EM7180_REG_UPLOAD_ADDR, EM7180_REG_UPLOAD_DATA), /* upstream: upload */
 	regmap_reg_range(EM7180_REG_RESET_REQ, EM7180_REG_RESET_REQ),
-	regmap_reg_range(EM7180_REG_SCL_LOW_CYCLES, EM7180_REG_PASSTHRU_CTRL), /* upstream: passthru */
+	/* upstream: passthru { */
+	regmap_reg_range(EM7180_REG_SCL_LOW_CYCLES, EM7180_REG_PASSTHRU_CTRL),
+	/* upstream: } */
 };
 
 static const struct regmap_access_table em7180_writeable_table = {
@@ -147,7 +151,9 @@ static const struct regmap_access_table em7180_noinc_table = {
 static const struct regmap_range em7180_cached_ranges[] = {
 	regmap_reg_range(EM7180_REG_QRATE_DIVISOR, EM7180_REG_HOST_CTRL),
 	regmap_reg_range(EM7180_REG_ALGO_CTRL, 0x5F),
-	regmap_reg_range(EM7180_REG_SCL_LOW_CYCLES, EM7180_REG_PASSTHRU_CTRL), /* upstream: passthru */
+	/* upstream: passthru { */
+	regmap_reg_range(EM7180_REG_SCL_LOW_CYCLES, EM7180_REG_PASSTHRU_CTRL),
+	/* upstream: } */
 };
 
 static const struct regmap_access_table em7180_volatile_table = {
@@ -594,7 +600,8 @@ static int em7180_write_raw(struct iio_dev *indio_dev, const struct iio_chan_spe
 		ret = f ? em7180_feature_write_freq(data, f, val) :
 		      em7180_write_freq(data, em7180_sensor_of(chan->type), val);
 		/* upstream: } */
-		/* upstream: !feature: ret = em7180_write_freq(data, em7180_sensor_of(chan->type), val); */
+		/* upstream: !feature: ret = em7180_write_freq(data, */
+		/* upstream: !feature:			em7180_sensor_of(chan->type), val); */
 		break;
 	/* upstream: param { */
 	case IIO_CHAN_INFO_CALIBBIAS:
