@@ -10,12 +10,12 @@
 #include <linux/regmap.h>
 
 struct device;
-struct i2c_adapter;
+struct i2c_adapter; /* upstream: passthru */
 
 extern const struct regmap_config em7180_regmap_config;
 extern const struct dev_pm_ops em7180_pm_ops;
 
 int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq);
-int em7180_passthru_probe(struct device *dev, struct i2c_adapter *parent);
+int em7180_passthru_probe(struct device *dev, struct i2c_adapter *parent); /* upstream: passthru */
 
 #endif /* _EM7180_H_ */

@@ -4,12 +4,12 @@
  *
  * Every firmware reports it in AlgorithmStatus (0x38), part of the chip's
  * fixed host interface (EM's em718x_registers.h; the USFS host libraries
- * judge calibration by its CalibStable bit). PNI's warm start application
- * note adds a status (0x43), update flags (0x44, clear on read) and a score
- * (0x4D-0x4E) in general-purpose registers, which other firmware uses for
- * other data: the USFS utilities read linear acceleration from 0x3F-0x44
- * (Greg Tomasch's EM7180_SENtral_Calibration). So those are reported only
- * while they read as the note defines them, and agree with AlgorithmStatus.
+ * judge calibration by its CalibStable bit). Some firmware adds a status
+ * (0x43), update flags (0x44, clear on read) and a score (0x4D-0x4E) in
+ * general-purpose registers, which other firmware uses for other data: the
+ * USFS utilities read linear acceleration from 0x3F-0x44 (Greg Tomasch's
+ * EM7180_SENtral_Calibration). So those are reported only while they read
+ * in that layout, and agree with AlgorithmStatus.
  *
  * One read serves every attribute read for EM7180_CAL_MAX_AGE_MS, as hwmon
  * drivers cache readings. The chip raises no interrupt when they change.
@@ -58,7 +58,7 @@
  * em7180_score_milli() - the calibration score in thousandths of a percent
  * @raw: CalScore register pair (0x4D | 0x4E << 8)
  *
- * The application note defines the score as (raw - 32768) / 32768 * 100 %.
+ * The score is (raw - 32768) / 32768 * 100 %.
  *
  * Return: the score in 0.001 %, rounded to nearest, -100000 to 99997.
  */
@@ -92,12 +92,12 @@ int em7180_cal_level(u8 algo)
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_level);
 
 /**
- * em7180_cal_layout() - do 0x43..0x4E read as the application note has them?
+ * em7180_cal_layout() - do 0x43..0x4E read as the calibration registers?
  * @algo: AlgorithmStatus of the same read
  * @regs: registers 0x43..0x4E
  * @agree: also require that status and transient agree with @algo
  *
- * The note defines bits 3:0 of 0x43 and 1:0 of 0x44, and a score of 0 % or
+ * The layout defines bits 3:0 of 0x43 and 1:0 of 0x44, and a score of 0 % or
  * more; complete means stable, and both registers carry MagTransient. All
  * zero is nothing yet, not a score.
  *
@@ -107,8 +107,7 @@ bool em7180_cal_layout(u8 algo, const u8 *regs, bool agree)
 {
 	u8 status = regs[0];
 	u8 flags = regs[EM7180_REG_CAL_FLAGS - EM7180_REG_CAL_STATUS];
-	u16 score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE -
-					     EM7180_REG_CAL_STATUS]);
+	u16 score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE - EM7180_REG_CAL_STATUS]);
 
 	if (!memchr_inv(regs, 0, EM7180_CAL_BLOCK_LEN) ||
 	    status & ~(EM7180_CAL_STATUS_MASK | EM7180_CAL_TRANSIENT_MASK) ||
@@ -119,8 +118,7 @@ bool em7180_cal_layout(u8 algo, const u8 *regs, bool agree)
 
 	return !(status & EM7180_CAL_TRANSIENT_MASK) ==
 	       !(algo & EM7180_ALGO_STATUS_TRANSIENT) &&
-	       (FIELD_GET(EM7180_CAL_STATUS_MASK, status) ==
-		EM7180_CAL_STATUS_COMPLETE) ==
+	       (FIELD_GET(EM7180_CAL_STATUS_MASK, status) == EM7180_CAL_STATUS_COMPLETE) ==
 	       !!(algo & EM7180_ALGO_STATUS_STABLE);
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_layout);
@@ -131,7 +129,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_cal_layout);
  * @regs: the registers, as read in one burst
  *
  * The update flags latch until the next warm start transfer. A read that
- * the note's layout cannot hold ends their reporting for this firmware.
+ * the layout cannot hold ends their reporting for this firmware.
  */
 void em7180_cal_update(struct em7180_data *data, const u8 *regs)
 {
@@ -147,8 +145,7 @@ void em7180_cal_update(struct em7180_data *data, const u8 *regs)
 			 EM7180_CAL_BLOCK_LEN, regs);
 		return;
 	}
-	data->cal.score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE -
-						   EM7180_REG_CAL_STATUS]);
+	data->cal.score = get_unaligned_le16(&regs[EM7180_REG_CAL_SCORE - EM7180_REG_CAL_STATUS]);
 	data->cal.flags |= regs[EM7180_REG_CAL_FLAGS - EM7180_REG_CAL_STATUS];
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_update);
@@ -159,27 +156,23 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_cal_update);
  * SentralStatus because a chip that reset itself without an interrupt
  * waits in standby.
  */
-static int em7180_cal_read(struct em7180_data *data, u8 *regs, bool block,
-			   bool split)
+static int em7180_cal_read(struct em7180_data *data, u8 *regs, bool block, bool split)
 {
 	int ret;
 
 	if (!block || split || data->ptr_stops) {
-		ret = regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
-				       regs, 2);
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS, regs, 2);
 		if (ret || !block)
 			return ret;
-		return regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS,
-					&regs[EM7180_CAL_OFF],
+		return regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, &regs[EM7180_CAL_OFF],
 					EM7180_CAL_BLOCK_LEN);
 	}
 
-	return regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS, regs,
-				EM7180_CAL_READ_LEN);
+	return regmap_bulk_read(data->regmap, EM7180_REG_SENTRAL_STATUS, regs, EM7180_CAL_READ_LEN);
 }
 
 /**
- * em7180_cal_detect() - does the firmware running have the note's registers?
+ * em7180_cal_detect() - does the firmware running have the calibration registers?
  * @data: driver state, with @data->lock held, the chip running
  *
  * Asked at probe, before any parameter transfer has shown how the register
@@ -213,8 +206,7 @@ static int em7180_cal_refresh(struct em7180_data *data)
 	lockdep_assert_held(&data->lock);
 
 	if (data->cal.valid &&
-	    time_before(jiffies, data->cal.read_at +
-			msecs_to_jiffies(EM7180_CAL_MAX_AGE_MS)))
+	    time_before(jiffies, data->cal.read_at + msecs_to_jiffies(EM7180_CAL_MAX_AGE_MS)))
 		return 0;
 
 	data->cal.valid = false;
@@ -222,7 +214,7 @@ static int em7180_cal_refresh(struct em7180_data *data)
 	if (ret)
 		return ret;
 
-	em7180_status_seen(data, regs[0]);
+	em7180_status_seen(data, regs[0]); /* upstream: health */
 	/* A glitch is not a state: not kept either */
 	if (regs[1] & EM7180_ALGO_STATUS_RESERVED)
 		return -EIO;
@@ -249,8 +241,7 @@ void em7180_cal_saved(struct em7180_data *data)
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_cal_saved);
 
-ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
-			char *buf)
+ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr, char *buf)
 {
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(dev));
 	unsigned int what = to_iio_dev_attr(attr)->address;
@@ -274,10 +265,8 @@ ssize_t em7180_cal_show(struct device *dev, struct device_attribute *attr,
 		return sysfs_emit(buf, "%s%d.%03d\n", milli < 0 ? "-" : "",
 				  abs(milli) / 1000, abs(milli) % 1000);
 	case EM7180_CAL_ATTR_MAG_UPDATE:
-		return sysfs_emit(buf, "%d\n",
-				  !!(cal.flags & EM7180_CAL_FLAG_MAG_UPDATE));
+		return sysfs_emit(buf, "%d\n", !!(cal.flags & EM7180_CAL_FLAG_MAG_UPDATE));
 	default:
-		return sysfs_emit(buf, "%d\n",
-				  !!(cal.flags & EM7180_CAL_FLAG_GBIAS_UPDATE));
+		return sysfs_emit(buf, "%d\n", !!(cal.flags & EM7180_CAL_FLAG_GBIAS_UPDATE));
 	}
 }

@@ -113,10 +113,9 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_feature_layout);
  * @chans: filled with @n_base + @n_feat entries: @base but its timestamp,
  *	the feature sensors, then the timestamp with the last scan index
  */
-void em7180_feature_channels(const struct iio_chan_spec *base,
-			     unsigned int n_base,
-			     const struct em7180_feature *feat,
-			     unsigned int n_feat, struct iio_chan_spec *chans)
+void em7180_feature_channels(const struct iio_chan_spec *base, unsigned int n_base,
+			     const struct em7180_feature *feat, unsigned int n_feat,
+			     struct iio_chan_spec *chans)
 {
 	struct iio_chan_spec *c;
 	unsigned int i;
@@ -172,8 +171,7 @@ int em7180_feature_probe(struct iio_dev *indio_dev,
 
 	ret = regmap_read(data->regmap, EM7180_REG_FEATURE_FLAGS, &flags);
 	if (ret)
-		return dev_err_probe(data->dev, ret,
-				     "failed to read FeatureFlags\n");
+		return dev_err_probe(data->dev, ret, "failed to read FeatureFlags\n");
 
 	n = em7180_feature_layout(flags, data->features);
 	if (n < 0) {
@@ -200,8 +198,7 @@ int em7180_feature_probe(struct iio_dev *indio_dev,
 }
 
 /* Hz to the rate register and back, the report bit apart */
-static unsigned int em7180_feature_div(struct em7180_data *data,
-				       const struct em7180_feature *f)
+static unsigned int em7180_feature_div(struct em7180_data *data, const struct em7180_feature *f)
 {
 	return f->type == IIO_PRESSURE && data->baro_half ? 2 : 1;
 }
@@ -211,8 +208,7 @@ static unsigned int em7180_feature_div(struct em7180_data *data,
  * register: a register of R giving R / 2 Hz counts half hertz, and is
  * written again for the rate asked. Returns 1 then: @actual is stale.
  */
-static int em7180_feature_settle(struct em7180_data *data,
-				 const struct em7180_feature *f,
+static int em7180_feature_settle(struct em7180_data *data, const struct em7180_feature *f,
 				 unsigned int actual)
 {
 	unsigned int reg, hz;
@@ -235,8 +231,7 @@ static int em7180_feature_settle(struct em7180_data *data,
 	data->baro_half = true;
 	dev_info(data->dev, "BaroRate %u runs the barometer at %u Hz: it counts half hertz\n",
 		 hz, actual);
-	return regmap_update_bits(data->regmap,
-				  EM7180_REG_FEATURE_RATE0 + f->slot,
+	return regmap_update_bits(data->regmap, EM7180_REG_FEATURE_RATE0 + f->slot,
 				  EM7180_FEATURE_RATE_MASK, 2 * hz) ?: 1;
 }
 
@@ -270,8 +265,7 @@ int em7180_feature_configure(struct em7180_data *data, bool from_cache)
 				   em7180_feature_div(data, &data->features[i]);
 	}
 
-	return regmap_bulk_write(data->regmap, EM7180_REG_FEATURE_RATE0, rates,
-				 data->n_features);
+	return regmap_bulk_write(data->regmap, EM7180_REG_FEATURE_RATE0, rates, data->n_features);
 }
 
 /**
@@ -281,8 +275,7 @@ int em7180_feature_configure(struct em7180_data *data, bool from_cache)
  *
  * Return: the feature sensor, NULL for another channel.
  */
-const struct em7180_feature *em7180_feature_find(struct em7180_data *data,
-						 enum iio_chan_type type)
+const struct em7180_feature *em7180_feature_find(struct em7180_data *data, enum iio_chan_type type)
 {
 	unsigned int i;
 
@@ -303,14 +296,12 @@ static int em7180_feature_rate(struct em7180_data *data,
 	lockdep_assert_held(&data->lock);
 
 	if (f->type == IIO_PRESSURE && !data->baro_settled) {
-		ret = regmap_read(data->regmap,
-				  EM7180_REG_ACTUAL_FEATURE0 + f->slot, &reg) ?:
+		ret = regmap_read(data->regmap, EM7180_REG_ACTUAL_FEATURE0 + f->slot, &reg) ?:
 		      em7180_feature_settle(data, f, reg);
 		if (ret < 0)
 			return ret;
 	}
-	ret = regmap_read(data->regmap, EM7180_REG_FEATURE_RATE0 + f->slot,
-			  &reg);
+	ret = regmap_read(data->regmap, EM7180_REG_FEATURE_RATE0 + f->slot, &reg);
 	if (ret)
 		return ret;
 
@@ -329,15 +320,13 @@ static int em7180_feature_rate(struct em7180_data *data,
  *
  * Return: IIO_VAL_INT or a negative error code.
  */
-int em7180_feature_read_freq(struct em7180_data *data,
-			     const struct em7180_feature *f, int *hz)
+int em7180_feature_read_freq(struct em7180_data *data, const struct em7180_feature *f, int *hz)
 {
 	unsigned int rate;
 	int ret;
 
 	scoped_guard(em7180, data) {
-		ret = regmap_read(data->regmap,
-				  EM7180_REG_ACTUAL_FEATURE0 + f->slot, &rate);
+		ret = regmap_read(data->regmap, EM7180_REG_ACTUAL_FEATURE0 + f->slot, &rate);
 		if (!ret)
 			ret = em7180_feature_settle(data, f, rate);
 		if (ret > 0 || (!ret && !rate))
@@ -358,8 +347,7 @@ int em7180_feature_read_freq(struct em7180_data *data,
  *
  * Return: 0, -EINVAL for a rate not advertised, or the bus error.
  */
-int em7180_feature_write_freq(struct em7180_data *data,
-			      const struct em7180_feature *f, int hz)
+int em7180_feature_write_freq(struct em7180_data *data, const struct em7180_feature *f, int hz)
 {
 	unsigned int i;
 
@@ -370,10 +358,8 @@ int em7180_feature_write_freq(struct em7180_data *data,
 		return -EINVAL;
 
 	guard(em7180)(data);
-	return regmap_update_bits(data->regmap,
-				  EM7180_REG_FEATURE_RATE0 + f->slot,
-				  EM7180_FEATURE_RATE_MASK,
-				  hz * em7180_feature_div(data, f));
+	return regmap_update_bits(data->regmap, EM7180_REG_FEATURE_RATE0 + f->slot,
+				  EM7180_FEATURE_RATE_MASK, hz * em7180_feature_div(data, f));
 }
 
 /**
@@ -385,8 +371,7 @@ int em7180_feature_write_freq(struct em7180_data *data,
  *
  * Return: the IIO value type or a negative error code.
  */
-int em7180_feature_read_info(struct em7180_data *data,
-			     const struct em7180_feature *f, int *vals,
+int em7180_feature_read_info(struct em7180_data *data, const struct em7180_feature *f, int *vals,
 			     long mask)
 {
 	switch (mask) {
@@ -437,8 +422,7 @@ int em7180_feature_read_avail(const int **vals, int *type, int *length)
  *
  * Return: true when one does.
  */
-bool em7180_feature_pace(struct em7180_data *data, const unsigned long *mask,
-			 unsigned int best)
+bool em7180_feature_pace(struct em7180_data *data, const unsigned long *mask, unsigned int best)
 {
 	const struct em7180_feature *f;
 	unsigned int hz;
@@ -482,8 +466,7 @@ int em7180_feature_report(struct em7180_data *data)
 	for (f = data->features; f < data->features + data->n_features; f++) {
 		report = data->pace_event == EM7180_EVENT_FEATURE &&
 			 f == data->pace_feature ? EM7180_FEATURE_RATE_REPORT : 0;
-		ret = regmap_update_bits(data->regmap,
-					 EM7180_REG_FEATURE_RATE0 + f->slot,
+		ret = regmap_update_bits(data->regmap, EM7180_REG_FEATURE_RATE0 + f->slot,
 					 EM7180_FEATURE_RATE_REPORT, report);
 		if (ret)
 			return ret;

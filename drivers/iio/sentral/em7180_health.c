@@ -20,7 +20,6 @@
 #include <linux/seq_file.h>
 #include <linux/workqueue.h>
 
-#include <linux/iio/buffer.h>
 #include <linux/iio/iio.h>
 
 #include <kunit/visibility.h>
@@ -65,8 +64,7 @@ void em7180_check_status(struct em7180_data *data)
 
 	lockdep_assert_held(&data->lock);
 
-	if (time_before(jiffies, data->status_at +
-			msecs_to_jiffies(EM7180_WATCH_MS)))
+	if (time_before(jiffies, data->status_at + msecs_to_jiffies(EM7180_WATCH_MS)))
 		return;
 	if (!regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, &status))
 		em7180_status_seen(data, status);
@@ -89,16 +87,14 @@ int em7180_chip_recover(struct em7180_data *data)
 	data->recovered_at = jiffies;
 	data->recover_ret = ret;
 	if (ret)
-		dev_err(data->dev, "cannot restore the chip after its reset: %d\n",
-			ret);
+		dev_err(data->dev, "cannot restore the chip after its reset: %d\n", ret);
 
 	return ret;
 }
 
 static void em7180_recover_work(struct work_struct *work)
 {
-	struct em7180_data *data = container_of(to_delayed_work(work),
-						struct em7180_data,
+	struct em7180_data *data = container_of(to_delayed_work(work), struct em7180_data,
 						recover_work);
 	int ret;
 
@@ -108,11 +104,9 @@ static void em7180_recover_work(struct work_struct *work)
 		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
 		if (!ret)
 			return;
-		dev_warn(data->dev,
-			 "cannot end a parameter transfer (%d): resetting the chip\n",
+		dev_warn(data->dev, "cannot end a parameter transfer (%d): resetting the chip\n",
 			 ret);
-		ret = regmap_write(data->regmap, EM7180_REG_RESET_REQ,
-				   EM7180_RESET_REQ_RESET);
+		ret = regmap_write(data->regmap, EM7180_REG_RESET_REQ, EM7180_RESET_REQ_RESET);
 		if (ret) {
 			dev_err(data->dev, "cannot reset the chip: %d\n", ret);
 			return;
@@ -154,33 +148,21 @@ static void em7180_watch_schedule(struct em7180_data *data)
 /* A second without a scan of the chip's own trigger, or any other trigger */
 static void em7180_watch_work(struct work_struct *work)
 {
-	struct em7180_data *data = container_of(to_delayed_work(work),
-						struct em7180_data,
+	struct em7180_data *data = container_of(to_delayed_work(work), struct em7180_data,
 						watch_work);
 	s64 ts = READ_ONCE(data->scan_ts);
 	unsigned int status;
 
 	if (!READ_ONCE(data->pace_event) || ts == data->watch_ts) {
 		guard(em7180)(data);
-		if (!regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS,
-				 &status))
+		if (!regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, &status))
 			em7180_status_seen(data, status);
 	}
 	data->watch_ts = ts;
 	em7180_watch_schedule(data);
 }
 
-/* current_timestamp_clock may have changed since the last pause */
-static int em7180_buffer_preenable(struct iio_dev *indio_dev)
-{
-	struct em7180_data *data = iio_priv(indio_dev);
-
-	guard(em7180)(data);
-	data->resumed = 0;
-	return 0;
-}
-
-static int em7180_buffer_postenable(struct iio_dev *indio_dev)
+int em7180_watch_start(struct iio_dev *indio_dev)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
 
@@ -189,19 +171,13 @@ static int em7180_buffer_postenable(struct iio_dev *indio_dev)
 	return 0;
 }
 
-static int em7180_buffer_predisable(struct iio_dev *indio_dev)
+int em7180_watch_stop(struct iio_dev *indio_dev)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
 
 	cancel_delayed_work_sync(&data->watch_work);
 	return 0;
 }
-
-const struct iio_buffer_setup_ops em7180_buffer_ops = {
-	.preenable = em7180_buffer_preenable,
-	.postenable = em7180_buffer_postenable,
-	.predisable = em7180_buffer_predisable,
-};
 
 /**
  * em7180_health_init() - set up recovery and the watch of a running buffer
@@ -223,8 +199,7 @@ int em7180_health_init(struct em7180_data *data)
 	if (ret)
 		return ret;
 
-	return devm_delayed_work_autocancel(data->dev, &data->watch_work,
-					    em7180_watch_work);
+	return devm_delayed_work_autocancel(data->dev, &data->watch_work, em7180_watch_work);
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_health_init);
 
@@ -238,8 +213,7 @@ static int em7180_recovery_show(struct seq_file *m, void *unused)
 	seq_printf(m, "pending %d\n", delayed_work_pending(&data->recover_work));
 	if (data->resets)
 		seq_printf(m, "last %u ms ago, result %d\n",
-			   jiffies_to_msecs(jiffies - data->recovered_at),
-			   data->recover_ret);
+			   jiffies_to_msecs(jiffies - data->recovered_at), data->recover_ret);
 	return 0;
 }
 DEFINE_SHOW_ATTRIBUTE(em7180_recovery);
@@ -260,8 +234,7 @@ void em7180_health_debugfs(struct iio_dev *indio_dev)
 {
 	struct dentry *dir = iio_get_debugfs_dentry(indio_dev);
 
-	debugfs_create_file("recovery", 0400, dir, iio_priv(indio_dev),
-			    &em7180_recovery_fops);
+	debugfs_create_file("recovery", 0400, dir, iio_priv(indio_dev), &em7180_recovery_fops);
 	debugfs_create_file("firmware_version", 0400, dir, iio_priv(indio_dev),
 			    &em7180_firmware_version_fops);
 }
@@ -292,19 +265,15 @@ void em7180_report_error(struct em7180_data *data)
 
 	ret = regmap_read(data->regmap, EM7180_REG_ERROR, &err);
 	if (!ret)
-		ret = regmap_read(data->regmap, EM7180_REG_SENSOR_STATUS,
-				  &sensors);
+		ret = regmap_read(data->regmap, EM7180_REG_SENSOR_STATUS, &sensors);
 	if (ret) {
-		dev_err_ratelimited(data->dev,
-				    "chip error, error registers unreadable: %d\n",
-				    ret);
+		dev_err_ratelimited(data->dev, "chip error, error registers unreadable: %d\n", ret);
 		return;
 	}
 	if (data->last_error == (sensors << 8 | err))
 		return;
 	data->last_error = sensors << 8 | err;
 	if (err || sensors)
-		dev_err(data->dev,
-			"chip error 0x%02x (%s), sensor status 0x%02x\n", err,
+		dev_err(data->dev, "chip error 0x%02x (%s), sensor status 0x%02x\n", err,
 			err ? em7180_error_name(err) : "none", sensors);
 }

@@ -23,11 +23,14 @@ static int em7180_i2c_probe(struct i2c_client *client)
 				     "failed to initialize regmap\n");
 
 	ret = em7180_core_probe(&client->dev, regmap, client->irq);
+	/* upstream: passthru { */
 	if (ret)
 		return ret;
 
 	/* The hub's sensor bus, reached in passthrough */
 	return em7180_passthru_probe(&client->dev, client->adapter);
+	/* upstream: } */
+	/* upstream: !passthru: return ret; */
 }
 
 static const struct i2c_device_id em7180_i2c_id[] = {

@@ -10,12 +10,12 @@
 
 #include <kunit/test.h>
 #include <linux/cleanup.h>
-#include <linux/completion.h>
+#include <linux/completion.h> /* upstream: passthru */
 #include <linux/delay.h>
 #include <linux/device.h>
 #include <linux/errno.h>
 #include <linux/firmware.h>
-#include <linux/i2c-mux.h>
+#include <linux/i2c-mux.h> /* upstream: passthru */
 #include <linux/ktime.h>
 #include <linux/limits.h>
 #include <linux/module.h>
@@ -58,7 +58,9 @@ struct em7180_emu {
 	enum emu_ack_end ack_end;
 	bool standby_stuck;		/* AlgorithmStatus never shows standby */
 	bool autoinc_stop;		/* the pointer stops at 0x3A and 0x63 */
+	/* upstream: passthru { */
 	bool passthru_stuck;		/* PassThruStatus never clears */
+	/* upstream: } */
 	u8 algo_status;			/* AlgorithmStatus but bit 0 */
 	unsigned int ack_latency_us;
 	bool pending;
@@ -200,9 +202,11 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 	emu->regs[EM7180_REG_ALGO_STATUS] = emu->algo_status |
 		(emu->standby_stuck ? 0 : emu->regs[EM7180_REG_ALGO_CTRL] &
 					  EM7180_ALGO_CTRL_STANDBY);
+	/* upstream: passthru { */
 	emu->regs[EM7180_REG_PASSTHRU_STATUS] = emu->passthru_stuck ?
 		EM7180_PASSTHRU_ON :
 		emu->regs[EM7180_REG_PASSTHRU_CTRL] & EM7180_PASSTHRU_ON;
+	/* upstream: } */
 	/* Once uploaded, the CPU is in standby until the host runs it */
 	if (emu->regs[EM7180_REG_SENTRAL_STATUS] & EM7180_SENTRAL_UPLOAD_DONE) {
 		if (emu->regs[EM7180_REG_HOST_CTRL] & EM7180_HOST_CTRL_RUN)
@@ -257,7 +261,7 @@ static int em7180_test_init(struct kunit *test)
 
 	t->data->dev = t->dev;
 	t->data->regmap = map;
-	/* Probe found firmware with the application note's registers */
+	/* Probe found firmware with the calibration registers */
 	t->data->appnote_attrs = true;
 	t->data->appnote = true;
 	mutex_init(&t->data->lock);
@@ -1787,6 +1791,7 @@ static void em7180_test_upload_errors(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, val, EM7180_HOST_CTRL_RUN);
 }
 
+/* upstream: passthru { */
 struct test_locker {
 	struct work_struct work;
 	struct em7180_data *data;
@@ -1875,12 +1880,15 @@ static void em7180_test_passthru_recover(struct kunit *test)
 	KUNIT_EXPECT_TRUE(test, delayed_work_pending(&t->data->recover_work));
 }
 
+/* upstream: } */
 static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_read_sequence),
 	KUNIT_CASE(em7180_test_upload_sequence),
 	KUNIT_CASE(em7180_test_upload_errors),
+	/* upstream: passthru { */
 	KUNIT_CASE(em7180_test_passthru_sequence),
 	KUNIT_CASE_SLOW(em7180_test_passthru_recover),
+	/* upstream: } */
 	KUNIT_CASE(em7180_test_param_write_sequence),
 	KUNIT_CASE(em7180_test_param_batch),
 	KUNIT_CASE(em7180_test_param_stale_ack),
@@ -2149,7 +2157,7 @@ static void em7180_test_cal_level(struct kunit *test)
 }
 
 /*
- * The application note's registers, against what a USFS board keeps there
+ * The calibration registers, against what a USFS board keeps there
  * (linear acceleration in 0x3F-0x44, 0x4D-0x4E not a score)
  */
 static void em7180_test_cal_layout(struct kunit *test)

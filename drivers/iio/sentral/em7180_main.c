@@ -1,12 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-only
 /*
- * PNI SENtral / EM Microelectronic EM7180 sensor-fusion hub
- *
- * The hub fuses its accelerometer, gyroscope and magnetometer into an
- * orientation quaternion and presents scaled data in a register map (EM's
- * em718x_registers.h, Sony's em718x driver). The calibration it learns is
- * lost at power-off: its 35 "warm start" parameters are one binary
- * attribute, for userspace to save and restore at the next boot.
+ * PNI SENtral / EM Microelectronic EM7180 sensor-fusion hub: quaternion and
+ * scaled data in a register map (EM's em718x_registers.h, Sony's em718x).
  */
 
 #include <linux/array_size.h>
@@ -16,10 +11,10 @@
 #include <linux/delay.h>
 #include <linux/device.h>
 #include <linux/errno.h>
-#include <linux/firmware.h>
+#include <linux/firmware.h> /* upstream: param */
 #include <linux/interrupt.h>
 #include <linux/iopoll.h>
-#include <linux/jiffies.h>
+#include <linux/jiffies.h> /* upstream: param */
 #include <linux/limits.h>
 #include <linux/lockdep.h>
 #include <linux/math.h>
@@ -29,16 +24,15 @@
 #include <linux/pm.h>
 #include <linux/regmap.h>
 #include <linux/regulator/consumer.h>
-#include <linux/slab.h>
+#include <linux/slab.h> /* upstream: param */
 #include <linux/string.h>
 #include <linux/sysfs.h>
 #include <linux/types.h>
-#include <linux/wait.h>
-#include <linux/workqueue.h>
+#include <linux/wait.h> /* upstream: param */
 
 #include <linux/iio/buffer.h>
 #include <linux/iio/iio.h>
-#include <linux/iio/sysfs.h>
+#include <linux/iio/sysfs.h> /* upstream: cal */
 #include <linux/iio/trigger.h>
 #include <linux/iio/trigger_consumer.h>
 #include <linux/iio/triggered_buffer.h>
@@ -58,7 +52,7 @@
 #define EM7180_REG_ACTUAL_GYRO_RATE	0x47
 #define EM7180_REG_PRODUCT_ID		0x90
 #define EM7180_REG_RUN_STATUS		0x92
-#define EM7180_REG_SCL_LOW_CYCLES	0x9F
+#define EM7180_REG_SCL_LOW_CYCLES	0x9F /* upstream: passthru */
 
 #define EM7180_PRODUCT_ID		0x80
 #define EM7180_REVISION_ID		0x02
@@ -73,14 +67,12 @@
 #define EM7180_SENTRAL_UPLOAD_ERR	BIT(2)
 #define EM7180_SENTRAL_NO_EEPROM	BIT(4)
 
+/* upstream: param { */
 #define EM7180_WS_FIRST_PARAM		1
 #define EM7180_ACCEL_OFFSET_PARAM	27
+/* upstream: } */
 
-/*
- * Quaternion in Q14, s16 x 4 as bno055 has it: IIO prints scales with nine
- * decimals (2^-30 would be 0), and a wider element would pad scans to 16
- * bytes, which libiio 0.24 does not expect.
- */
+/* Q14 in s16, as bno055: IIO prints nine decimals, 2^-30 would be 0 */
 #define EM7180_QUAT_FRAC_BITS		14
 
 /* EM's em718x_core.c allows 4 s for the firmware upload */
@@ -88,15 +80,17 @@
 #define EM7180_UPLOAD_TIMEOUT_US	4000000
 #define EM7180_STANDBY_POLL_US		1000
 #define EM7180_STANDBY_TIMEOUT_US	1000000
-#define EM7180_ALIVE_TIMEOUT_US		50000
+#define EM7180_ALIVE_TIMEOUT_US		50000 /* upstream: health */
 /* Power-on reset; then the chip may not acknowledge for a while */
 #define EM7180_POWER_ON_US		10000
 #define EM7180_READY_POLL_US		5000
 #define EM7180_READY_TIMEOUT_US		200000
 #define EM7180_EVENT_READ_TRIES		3
+/* upstream: param { */
 /* The slowest scan period (magnetometer at 1 Hz), and scans to wait for */
 #define EM7180_SCAN_WAIT_MS		1100
 #define EM7180_SCAN_WAIT_TRIES		8
+/* upstream: } */
 
 enum em7180_scan {
 	EM7180_SCAN_QUAT,
@@ -112,9 +106,13 @@ static const struct regmap_range em7180_readable_ranges[] = {
 	regmap_reg_range(EM7180_REG_ALGO_CTRL, EM7180_REG_PARAM_REQ),
 	regmap_reg_range(EM7180_REG_ROM_VERSION, EM7180_REG_RAM_VERSION + 1),
 	regmap_reg_range(EM7180_REG_PRODUCT_ID, EM7180_REG_RUN_STATUS),
+	/* upstream: upload { */
 	/* UploadData too: regmap writes only readable registers noinc */
 	regmap_reg_range(EM7180_REG_UPLOAD_ADDR, EM7180_REG_CRC_HOST + 3),
+	/* upstream: } */
+	/* upstream: passthru { */
 	regmap_reg_range(EM7180_REG_PASSTHRU_STATUS, EM7180_REG_PASSTHRU_CTRL),
+	/* upstream: } */
 };
 
 static const struct regmap_access_table em7180_readable_table = {
@@ -125,9 +123,11 @@ static const struct regmap_access_table em7180_readable_table = {
 static const struct regmap_range em7180_writeable_ranges[] = {
 	regmap_reg_range(EM7180_REG_QRATE_DIVISOR, EM7180_REG_HOST_CTRL),
 	regmap_reg_range(EM7180_REG_ALGO_CTRL, EM7180_REG_PARAM_REQ),
-	regmap_reg_range(EM7180_REG_UPLOAD_ADDR, EM7180_REG_UPLOAD_DATA),
+	regmap_reg_range(EM7180_REG_UPLOAD_ADDR, EM7180_REG_UPLOAD_DATA), /* upstream: upload */
 	regmap_reg_range(EM7180_REG_RESET_REQ, EM7180_REG_RESET_REQ),
+	/* upstream: passthru { */
 	regmap_reg_range(EM7180_REG_SCL_LOW_CYCLES, EM7180_REG_PASSTHRU_CTRL),
+	/* upstream: } */
 };
 
 static const struct regmap_access_table em7180_writeable_table = {
@@ -135,6 +135,7 @@ static const struct regmap_access_table em7180_writeable_table = {
 	.n_yes_ranges = ARRAY_SIZE(em7180_writeable_ranges),
 };
 
+/* upstream: upload { */
 /* The firmware upload streams its text into UploadData */
 static const struct regmap_range em7180_noinc_ranges[] = {
 	regmap_reg_range(EM7180_REG_UPLOAD_DATA, EM7180_REG_UPLOAD_DATA),
@@ -145,11 +146,14 @@ static const struct regmap_access_table em7180_noinc_table = {
 	.n_yes_ranges = ARRAY_SIZE(em7180_noinc_ranges),
 };
 
+/* upstream: } */
 /* Only the host's configuration registers keep what was written to them */
 static const struct regmap_range em7180_cached_ranges[] = {
 	regmap_reg_range(EM7180_REG_QRATE_DIVISOR, EM7180_REG_HOST_CTRL),
 	regmap_reg_range(EM7180_REG_ALGO_CTRL, 0x5F),
+	/* upstream: passthru { */
 	regmap_reg_range(EM7180_REG_SCL_LOW_CYCLES, EM7180_REG_PASSTHRU_CTRL),
+	/* upstream: } */
 };
 
 static const struct regmap_access_table em7180_volatile_table = {
@@ -160,7 +164,7 @@ static const struct regmap_access_table em7180_volatile_table = {
 static const struct regmap_range em7180_precious_ranges[] = {
 	regmap_reg_range(EM7180_REG_EVENT_STATUS, EM7180_REG_EVENT_STATUS),
 	regmap_reg_range(EM7180_REG_CAL_FLAGS, EM7180_REG_CAL_FLAGS),
-	regmap_reg_range(EM7180_REG_UPLOAD_DATA, EM7180_REG_UPLOAD_DATA),
+	regmap_reg_range(EM7180_REG_UPLOAD_DATA, EM7180_REG_UPLOAD_DATA), /* upstream: upload */
 };
 
 static const struct regmap_access_table em7180_precious_table = {
@@ -172,17 +176,14 @@ const struct regmap_config em7180_regmap_config = {
 	.name = "em7180",
 	.reg_bits = 8,
 	.val_bits = 8,
-	.max_register = EM7180_REG_PASSTHRU_CTRL,
+	.max_register = EM7180_REG_PASSTHRU_CTRL, /* upstream: passthru */
+	/* upstream: !passthru: .max_register = EM7180_REG_RESET_REQ, */
 	.rd_table = &em7180_readable_table,
 	.wr_table = &em7180_writeable_table,
-	.wr_noinc_table = &em7180_noinc_table,
+	.wr_noinc_table = &em7180_noinc_table, /* upstream: upload */
 	.volatile_table = &em7180_volatile_table,
 	.precious_table = &em7180_precious_table,
-	/*
-	 * The cache holds what resume writes back after a power loss. The
-	 * tree caches drop a register whose write failed, and its neighbour;
-	 * the flat cache keeps what the driver asked for.
-	 */
+	/* The tree caches drop a register whose write failed, and its neighbour */
 	.cache_type = REGCACHE_FLAT,
 };
 EXPORT_SYMBOL_NS_GPL(em7180_regmap_config, "IIO_EM7180");
@@ -202,7 +203,7 @@ struct em7180_sensor {
 	int n_freq_avail;
 };
 
-/* Scales as EM's driver_ext.h and the USFS host libraries give them */
+/* Scales as EM's driver_ext.h and the USFS host libraries have them */
 static const struct em7180_sensor em7180_sensors[] = {
 	/* The gyroscope first: it wins a tie for pacing the scans */
 	{ IIO_ANGL_VEL, EM7180_REG_GYRO_RATE, EM7180_REG_ACTUAL_GYRO_RATE, 10,
@@ -228,8 +229,7 @@ static const struct em7180_sensor *em7180_sensor_of(enum iio_chan_type type)
 }
 
 static const struct iio_mount_matrix *
-em7180_get_mount_matrix(const struct iio_dev *indio_dev,
-			const struct iio_chan_spec *chan)
+em7180_get_mount_matrix(const struct iio_dev *indio_dev, const struct iio_chan_spec *chan)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
 
@@ -248,10 +248,8 @@ static const struct iio_chan_spec_ext_info em7180_ext_info[] = {
 	.channel2 = IIO_MOD_##_axis,					\
 	.address = _reg,						\
 	.info_mask_separate = BIT(IIO_CHAN_INFO_RAW) | (_sep),		\
-	.info_mask_shared_by_type = BIT(IIO_CHAN_INFO_SCALE) |		\
-				    BIT(IIO_CHAN_INFO_SAMP_FREQ),	\
-	.info_mask_shared_by_type_available =				\
-				    BIT(IIO_CHAN_INFO_SAMP_FREQ),	\
+	.info_mask_shared_by_type = BIT(IIO_CHAN_INFO_SCALE) | BIT(IIO_CHAN_INFO_SAMP_FREQ), \
+	.info_mask_shared_by_type_available = BIT(IIO_CHAN_INFO_SAMP_FREQ),	\
 	.scan_index = _index,						\
 	.scan_type = {							\
 		.sign = 's',						\
@@ -268,8 +266,7 @@ static const struct iio_chan_spec em7180_channels[] = {
 		.modified = 1,
 		.channel2 = IIO_MOD_QUATERNION,
 		.address = EM7180_REG_QX,
-		.info_mask_separate = BIT(IIO_CHAN_INFO_RAW) |
-				      BIT(IIO_CHAN_INFO_SCALE),
+		.info_mask_separate = BIT(IIO_CHAN_INFO_RAW) | BIT(IIO_CHAN_INFO_SCALE),
 		.scan_index = EM7180_SCAN_QUAT,
 		.scan_type = {
 			.sign = 's',
@@ -283,44 +280,74 @@ static const struct iio_chan_spec em7180_channels[] = {
 	EM7180_VEC_CHANNEL(IIO_MAGN, Y, EM7180_REG_MX + 2, EM7180_SCAN_MAGN_Y, 0),
 	EM7180_VEC_CHANNEL(IIO_MAGN, Z, EM7180_REG_MX + 4, EM7180_SCAN_MAGN_Z, 0),
 	EM7180_VEC_CHANNEL(IIO_ACCEL, X, EM7180_REG_AX, EM7180_SCAN_ACCEL_X,
-			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
+			   BIT(IIO_CHAN_INFO_CALIBBIAS)), /* upstream: param */
+			   /* upstream: !param: 0), */
 	EM7180_VEC_CHANNEL(IIO_ACCEL, Y, EM7180_REG_AX + 2, EM7180_SCAN_ACCEL_Y,
-			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
+			   BIT(IIO_CHAN_INFO_CALIBBIAS)), /* upstream: param */
+			   /* upstream: !param: 0), */
 	EM7180_VEC_CHANNEL(IIO_ACCEL, Z, EM7180_REG_AX + 4, EM7180_SCAN_ACCEL_Z,
-			   BIT(IIO_CHAN_INFO_CALIBBIAS)),
+			   BIT(IIO_CHAN_INFO_CALIBBIAS)), /* upstream: param */
+			   /* upstream: !param: 0), */
 	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, X, EM7180_REG_GX, EM7180_SCAN_ANGLVEL_X, 0),
 	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, Y, EM7180_REG_GX + 2, EM7180_SCAN_ANGLVEL_Y, 0),
 	EM7180_VEC_CHANNEL(IIO_ANGL_VEL, Z, EM7180_REG_GX + 4, EM7180_SCAN_ANGLVEL_Z, 0),
 	IIO_CHAN_SOFT_TIMESTAMP(EM7180_SCAN_TIMESTAMP),
 };
 
+/* round(float32 * 2^frac_bits), halves away from zero, saturated; NaN 0 */
+s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits)
+{
+	int e = (bits & EM7180_F32_EXP_MASK) >> EM7180_F32_FRAC_BITS;
+	bool neg = bits & EM7180_F32_SIGN;
+	u32 mant = bits & EM7180_F32_FRAC_MASK;
+	u32 val;
+	int shift;
+
+	if (e == 0xff && mant)
+		return 0;
+	/* |value| >= 2^(31 - frac_bits) does not fit */
+	if (e >= EM7180_F32_BIAS + 31 - (int)frac_bits)
+		return neg ? S32_MIN : S32_MAX;
+	if (!e)
+		return 0;	/* below 2^-126 */
+
+	/* value * 2^frac_bits = mant * 2^-shift with the hidden bit in mant */
+	mant |= BIT(EM7180_F32_FRAC_BITS);
+	shift = EM7180_F32_BIAS + EM7180_F32_FRAC_BITS - (int)frac_bits - e;
+	if (shift <= 0)
+		val = mant << -shift;
+	else if (shift > 25)
+		val = 0;
+	else
+		val = (mant + BIT(shift - 1)) >> shift;
+
+	return neg ? -(s32)val : (s32)val;
+}
+EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
+
 /* One quaternion component, float32 from the chip, as Q14 in an s16 */
 static s16 em7180_quat_component(const u8 *src)
 {
-	s32 q = em7180_float_to_fixed(get_unaligned_le32(src),
-				      EM7180_QUAT_FRAC_BITS);
+	s32 q = em7180_float_to_fixed(get_unaligned_le32(src), EM7180_QUAT_FRAC_BITS);
 
 	return clamp_t(s32, q, S16_MIN, S16_MAX);
 }
 
-/**
- * em7180_lock() - take the driver's lock with the hub out of passthrough
- * @data: driver state
- *
- * Waits for a transfer on the sensor bus behind the hub to end
- * (em7180_passthru.c).
- */
+/* The driver's lock, once a transfer behind the hub has ended */
 void em7180_lock(struct em7180_data *data)
 {
 	mutex_lock(&data->lock);
+	/* upstream: passthru { */
 	while (data->passthru) {
 		mutex_unlock(&data->lock);
 		wait_event(data->wq, !READ_ONCE(data->passthru));
 		mutex_lock(&data->lock);
 	}
+	/* upstream: } */
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_lock);
 
+/* upstream: param { */
 /**
  * em7180_resumed() - the chip runs again after a pause
  * @data: driver state, with @data->lock held
@@ -334,9 +361,10 @@ void em7180_resumed(struct em7180_data *data)
 	data->resumed = iio_get_time_ns(dev_get_drvdata(data->dev));
 }
 
+/* upstream: } */
+
 /* The actual rate; the requested one until the sensor has started */
-static int em7180_read_freq(struct em7180_data *data,
-			    const struct em7180_sensor *s, int *val)
+static int em7180_read_freq(struct em7180_data *data, const struct em7180_sensor *s, int *val)
 {
 	unsigned int rate;
 	int ret;
@@ -353,8 +381,7 @@ static int em7180_read_freq(struct em7180_data *data,
 	return IIO_VAL_INT;
 }
 
-static int em7180_write_freq(struct em7180_data *data,
-			     const struct em7180_sensor *s, int val)
+static int em7180_write_freq(struct em7180_data *data, const struct em7180_sensor *s, int val)
 {
 	int i;
 
@@ -368,6 +395,7 @@ static int em7180_write_freq(struct em7180_data *data,
 	return regmap_write(data->regmap, s->rate_reg, val / s->hz_per_lsb);
 }
 
+/* upstream: param { */
 /*
  * Parameters 27..29 change only when the host writes them: calibbias is
  * served from a copy, so that a reader of the world-readable attribute
@@ -379,8 +407,7 @@ static int em7180_accel_offset_fetch(struct em7180_data *data)
 
 	lockdep_assert_held(&data->lock);
 
-	ret = em7180_params_read(data, EM7180_ACCEL_OFFSET_PARAM,
-				 ARRAY_SIZE(data->accel_offset),
+	ret = em7180_params_read(data, EM7180_ACCEL_OFFSET_PARAM, ARRAY_SIZE(data->accel_offset),
 				 data->accel_offset);
 	data->accel_offset_valid = !ret;
 
@@ -403,8 +430,7 @@ static void em7180_ws_set(struct em7180_data *data, const u32 *vals)
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 		put_unaligned_le32(vals[i], &data->ws[4 * i]);
 	data->ws_valid = true;
-	memcpy(data->accel_offset,
-	       &vals[EM7180_ACCEL_OFFSET_PARAM - EM7180_WS_FIRST_PARAM],
+	memcpy(data->accel_offset, &vals[EM7180_ACCEL_OFFSET_PARAM - EM7180_WS_FIRST_PARAM],
 	       sizeof(data->accel_offset));
 	data->accel_offset_valid = true;
 }
@@ -418,8 +444,7 @@ static void em7180_ws_set(struct em7180_data *data, const u32 *vals)
  * Return: 0, -ENODATA while the copy is unknown, -ERANGE for a value that
  * is no offset.
  */
-int em7180_read_calibbias(struct em7180_data *data, unsigned int axis,
-			  int *val)
+int em7180_read_calibbias(struct em7180_data *data, unsigned int axis, int *val)
 {
 	guard(em7180)(data);
 	if (!data->accel_offset_valid)
@@ -439,8 +464,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_read_calibbias);
  *
  * Return: 0, -EINVAL for a value out of range, or the transfer's error.
  */
-int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
-			   int val)
+int em7180_write_calibbias(struct em7180_data *data, unsigned int axis, int val)
 {
 	unsigned int param = EM7180_ACCEL_OFFSET_PARAM + axis;
 	u32 bits;
@@ -464,17 +488,16 @@ int em7180_write_calibbias(struct em7180_data *data, unsigned int axis,
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_write_calibbias);
 
-static int em7180_read_raw(struct em7180_data *data,
-			   const struct iio_chan_spec *chan, int *vals)
+/* upstream: } */
+static int em7180_read_raw(struct em7180_data *data, const struct iio_chan_spec *chan, int *vals)
 {
 	bool quat = chan->type == IIO_ROT;
 	u8 raw[16];
 	int i, ret;
 
 	scoped_guard(em7180, data) {
-		em7180_check_status(data);
-		ret = regmap_bulk_read(data->regmap, chan->address, raw,
-				       quat ? 16 : 2);
+		em7180_check_status(data); /* upstream: health */
+		ret = regmap_bulk_read(data->regmap, chan->address, raw, quat ? 16 : 2);
 	}
 	if (ret)
 		return ret;
@@ -490,18 +513,20 @@ static int em7180_read_raw(struct em7180_data *data,
 	return IIO_VAL_INT_MULTIPLE;
 }
 
-static int em7180_read_raw_multi(struct iio_dev *indio_dev,
-				 const struct iio_chan_spec *chan,
-				 int max_len, int *vals, int *val_len,
-				 long mask)
+static int em7180_read_raw_multi(struct iio_dev *indio_dev, const struct iio_chan_spec *chan,
+				 int max_len, int *vals, int *val_len, long mask)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
+	/* upstream: feature { */
 	const struct em7180_feature *f = em7180_feature_find(data, chan->type);
+	/* upstream: } */
 	int ret;
 
 	*val_len = 2;
+	/* upstream: feature { */
 	if (f && mask != IIO_CHAN_INFO_RAW)
 		return em7180_feature_read_info(data, f, vals, mask);
+	/* upstream: } */
 
 	switch (mask) {
 	case IIO_CHAN_INFO_RAW:
@@ -526,27 +551,27 @@ static int em7180_read_raw_multi(struct iio_dev *indio_dev,
 		return IIO_VAL_INT_PLUS_NANO;
 	case IIO_CHAN_INFO_SAMP_FREQ:
 		return em7180_read_freq(data, em7180_sensor_of(chan->type), vals);
+	/* upstream: param { */
 	case IIO_CHAN_INFO_CALIBBIAS:
-		ret = em7180_read_calibbias(data,
-					    (chan->address - EM7180_REG_AX) / 2,
-					    vals);
+		ret = em7180_read_calibbias(data, (chan->address - EM7180_REG_AX) / 2, vals);
 		return ret ?: IIO_VAL_INT;
+	/* upstream: } */
 	default:
 		return -EINVAL;
 	}
 }
 
-static int em7180_read_avail(struct iio_dev *indio_dev,
-			     const struct iio_chan_spec *chan,
-			     const int **vals, int *type, int *length,
-			     long mask)
+static int em7180_read_avail(struct iio_dev *indio_dev, const struct iio_chan_spec *chan,
+			     const int **vals, int *type, int *length, long mask)
 {
 	const struct em7180_sensor *s = em7180_sensor_of(chan->type);
 
 	if (mask != IIO_CHAN_INFO_SAMP_FREQ)
 		return -EINVAL;
+	/* upstream: feature { */
 	if (em7180_feature_find(iio_priv(indio_dev), chan->type))
 		return em7180_feature_read_avail(vals, type, length);
+	/* upstream: } */
 
 	*type = IIO_VAL_INT;
 	*vals = s->freq_avail;
@@ -554,12 +579,13 @@ static int em7180_read_avail(struct iio_dev *indio_dev,
 	return IIO_AVAIL_LIST;
 }
 
-static int em7180_write_raw(struct iio_dev *indio_dev,
-			    const struct iio_chan_spec *chan,
-			    int val, int val2, long mask)
+static int em7180_write_raw(struct iio_dev *indio_dev, const struct iio_chan_spec *chan, int val,
+			    int val2, long mask)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
+	/* upstream: feature { */
 	const struct em7180_feature *f = em7180_feature_find(data, chan->type);
+	/* upstream: } */
 	int ret;
 
 	if (val2)
@@ -570,14 +596,18 @@ static int em7180_write_raw(struct iio_dev *indio_dev,
 
 	switch (mask) {
 	case IIO_CHAN_INFO_SAMP_FREQ:
+		/* upstream: feature { */
 		ret = f ? em7180_feature_write_freq(data, f, val) :
 		      em7180_write_freq(data, em7180_sensor_of(chan->type), val);
+		/* upstream: } */
+		/* upstream: !feature: ret = em7180_write_freq(data, */
+		/* upstream: !feature:			em7180_sensor_of(chan->type), val); */
 		break;
+	/* upstream: param { */
 	case IIO_CHAN_INFO_CALIBBIAS:
-		ret = em7180_write_calibbias(data,
-					     (chan->address - EM7180_REG_AX) / 2,
-					     val);
+		ret = em7180_write_calibbias(data, (chan->address - EM7180_REG_AX) / 2, val);
 		break;
+	/* upstream: } */
 	default:
 		ret = -EINVAL;
 		break;
@@ -587,32 +617,24 @@ static int em7180_write_raw(struct iio_dev *indio_dev,
 	return ret;
 }
 
-static int em7180_write_raw_get_fmt(struct iio_dev *indio_dev,
-				    struct iio_chan_spec const *chan,
+static int em7180_write_raw_get_fmt(struct iio_dev *indio_dev, struct iio_chan_spec const *chan,
 				    long mask)
 {
 	return IIO_VAL_INT;
 }
 
-/**
- * em7180_id_line() - the chip and firmware running, in one line
- * @data: driver state, with @data->lock held or not yet shared
- * @buf: where to put it
- * @len: its size
- *
- * As bno055 reports its firmware_version: in debugfs and once at probe.
- * After a reset only a host-loaded chip needs its firmware file again.
- */
+/* As bno055's firmware_version: in debugfs and once at probe */
 void em7180_id_line(struct em7180_data *data, char *buf, size_t len)
 {
 	scnprintf(buf, len,
 		  "ProductID 0x%02x RevisionID 0x%02x ROM 0x%04x RAM 0x%04x %s",
 		  data->product_id, data->revision_id, data->rom_version,
-		  data->ram_version, data->fw ? "host" : "eeprom");
+		  data->ram_version, data->fw ? "host" : "eeprom"); /* upstream: upload */
+		  /* upstream: !upload: data->ram_version, "eeprom"); */
 }
 
-static void em7180_caldata_id(struct em7180_data *data,
-			      struct em7180_caldata_id *id)
+/* upstream: param { */
+static void em7180_caldata_id(struct em7180_data *data, struct em7180_caldata_id *id)
 {
 	*id = (struct em7180_caldata_id) {
 		.format = EM7180_CALDATA_FORMAT,
@@ -627,8 +649,7 @@ static void em7180_caldata_id(struct em7180_data *data,
  * A warm start of other firmware would mislead the fusion: refused before
  * the chip is touched, both identities said. @src names the blob's origin.
  */
-static int em7180_caldata_match(struct em7180_data *data,
-				const struct em7180_caldata *cal,
+static int em7180_caldata_match(struct em7180_data *data, const struct em7180_caldata *cal,
 				const char *src)
 {
 	struct em7180_caldata_id id;
@@ -650,8 +671,7 @@ static int em7180_caldata_match(struct em7180_data *data,
 }
 
 /* A checked blob to the chip, if its own: kept for a power loss once written */
-static int em7180_caldata_write(struct em7180_data *data,
-				const struct em7180_caldata *cal,
+static int em7180_caldata_write(struct em7180_data *data, const struct em7180_caldata *cal,
 				const char *src)
 {
 	u32 vals[EM7180_WS_NUM_PARAMS];
@@ -664,18 +684,19 @@ static int em7180_caldata_write(struct em7180_data *data,
 
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 		vals[i] = le32_to_cpu(cal->params[i]);
-	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
-				  EM7180_WS_NUM_PARAMS, vals);
+	ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM, EM7180_WS_NUM_PARAMS, vals);
 	if (ret) {
 		em7180_accel_offset_refresh(data, ret);
 		return ret;
 	}
 
 	em7180_ws_set(data, vals);
-	em7180_cal_saved(data);
+	em7180_cal_saved(data); /* upstream: cal */
 	return 0;
 }
 
+/* upstream: } */
+/* upstream: cal { */
 static IIO_DEVICE_ATTR(in_magn_calibration_auto_status, 0444,
 		       em7180_cal_show, NULL, EM7180_CAL_ATTR_LEVEL);
 static IIO_DEVICE_ATTR(in_magn_calibration_score, 0444,
@@ -684,7 +705,9 @@ static IIO_DEVICE_ATTR(in_anglvel_calibration_update, 0444, em7180_cal_show,
 		       NULL, EM7180_CAL_ATTR_GBIAS_UPDATE);
 static IIO_DEVICE_ATTR(in_magn_calibration_update, 0444, em7180_cal_show,
 		       NULL, EM7180_CAL_ATTR_MAG_UPDATE);
+/* upstream: } */
 
+/* upstream: param { */
 /**
  * em7180_warmstart_check() - validate a calibration_data attribute access
  * @buf: the blob, for a write
@@ -697,14 +720,12 @@ static IIO_DEVICE_ATTR(in_magn_calibration_update, 0444, em7180_cal_show,
  *
  * Return: 0 or -EINVAL.
  */
-int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count,
-			   bool write)
+int em7180_warmstart_check(const u8 *buf, loff_t off, size_t count, bool write)
 {
 	const struct em7180_caldata *cal = (const void *)buf;
 	unsigned int i;
 
-	if (off || count < EM7180_CALDATA_SIZE ||
-	    (write && count != EM7180_CALDATA_SIZE))
+	if (off || count < EM7180_CALDATA_SIZE || (write && count != EM7180_CALDATA_SIZE))
 		return -EINVAL;
 	for (i = 0; write && i < EM7180_WS_NUM_PARAMS; i++)
 		if (!em7180_float_is_finite(le32_to_cpu(cal->params[i])))
@@ -724,8 +745,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_warmstart_check);
  *
  * Return: 0, -EIO for such a word (logged), or the transfer's error.
  */
-VISIBLE_IF_KUNIT int em7180_warmstart_read(struct em7180_data *data,
-					   struct em7180_caldata *cal)
+VISIBLE_IF_KUNIT int em7180_warmstart_read(struct em7180_data *data, struct em7180_caldata *cal)
 {
 	u32 vals[EM7180_WS_NUM_PARAMS];
 	unsigned int i;
@@ -733,8 +753,7 @@ VISIBLE_IF_KUNIT int em7180_warmstart_read(struct em7180_data *data,
 
 	lockdep_assert_held(&data->lock);
 
-	ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM,
-				 EM7180_WS_NUM_PARAMS, vals);
+	ret = em7180_params_read(data, EM7180_WS_FIRST_PARAM, EM7180_WS_NUM_PARAMS, vals);
 	if (ret)
 		return ret;
 
@@ -787,14 +806,13 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
 			return ret;
 
 		guard(em7180)(data);
-		if (data->pace_event && data->resumed > data->scan_ts &&
-		    --tries)
+		if (data->pace_event && data->resumed > data->scan_ts && --tries)
 			continue;
 
 		ret = em7180_warmstart_read(data, (void *)buf);
 		if (ret)
 			return ret;
-		em7180_cal_saved(data);
+		em7180_cal_saved(data); /* upstream: cal */
 		return EM7180_CALDATA_SIZE;
 	}
 }
@@ -813,8 +831,7 @@ static ssize_t calibration_data_read(struct file *filp, struct kobject *kobj,
  * firmware's blob, -EBUSY while a buffer is enabled, or the error of the
  * parameter transfer.
  */
-int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
-			     loff_t off, size_t count)
+int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf, loff_t off, size_t count)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
 	int ret;
@@ -827,8 +844,7 @@ int em7180_warmstart_restore(struct iio_dev *indio_dev, const u8 *buf,
 		return -EBUSY;
 
 	scoped_guard(em7180, data)
-		ret = em7180_caldata_write(data, (const void *)buf,
-					   "calibration_data");
+		ret = em7180_caldata_write(data, (const void *)buf, "calibration_data");
 
 	iio_device_release_direct(indio_dev);
 
@@ -847,6 +863,8 @@ static ssize_t calibration_data_write(struct file *filp, struct kobject *kobj,
 /* Size 0: sysfs would cut a longer write down to a valid-looking blob */
 static BIN_ATTR_ADMIN_RW(calibration_data, 0);
 
+/* upstream: } */
+/* upstream: cal { */
 static struct attribute *em7180_attrs[] = {
 	&iio_dev_attr_in_magn_calibration_auto_status.dev_attr.attr,
 	&iio_dev_attr_in_magn_calibration_score.dev_attr.attr,
@@ -855,19 +873,20 @@ static struct attribute *em7180_attrs[] = {
 	NULL
 };
 
+/* upstream: } */
+/* upstream: param { */
 static em7180_bin_attribute *em7180_bin_attr_const em7180_bin_attrs[] = {
 	&bin_attr_calibration_data,
 	NULL
 };
 
-/* Asked once, at registration: the application note's, per firmware */
-static umode_t em7180_attr_is_visible(struct kobject *kobj,
-				      struct attribute *attr, int n)
+/* upstream: } */
+/* upstream: cal { */
+/* Asked once, at registration: the calibration registers, per firmware */
+static umode_t em7180_attr_is_visible(struct kobject *kobj, struct attribute *attr, int n)
 {
 	struct em7180_data *data = iio_priv(dev_to_iio_dev(kobj_to_dev(kobj)));
-	struct device_attribute *dattr = container_of(attr,
-						      struct device_attribute,
-						      attr);
+	struct device_attribute *dattr = container_of(attr, struct device_attribute, attr);
 
 	if (dattr->show == em7180_cal_show && !data->appnote_attrs &&
 	    to_iio_dev_attr(dattr)->address != EM7180_CAL_ATTR_LEVEL)
@@ -876,24 +895,26 @@ static umode_t em7180_attr_is_visible(struct kobject *kobj,
 	return attr->mode;
 }
 
+/* upstream: } */
+/* upstream: param { */
 static const struct attribute_group em7180_attr_group = {
-	.attrs = em7180_attrs,
+	.attrs = em7180_attrs, /* upstream: cal */
 	.bin_attrs = em7180_bin_attrs,
-	.is_visible = em7180_attr_is_visible,
+	.is_visible = em7180_attr_is_visible, /* upstream: cal */
 };
 
+/* upstream: } */
+
 /* A read of a clear-on-read register would take an event or a flag away */
-static int em7180_debugfs_reg_access(struct iio_dev *indio_dev,
-				     unsigned int reg, unsigned int writeval,
-				     unsigned int *readval)
+static int em7180_debugfs_reg_access(struct iio_dev *indio_dev, unsigned int reg,
+				     unsigned int writeval, unsigned int *readval)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
 
 	guard(em7180)(data);
 	if (!readval)
 		return regmap_write(data->regmap, reg, writeval);
-	if (regmap_reg_in_ranges(reg, em7180_precious_ranges,
-				 ARRAY_SIZE(em7180_precious_ranges)))
+	if (regmap_reg_in_ranges(reg, em7180_precious_ranges, ARRAY_SIZE(em7180_precious_ranges)))
 		return -EPERM;
 
 	return regmap_read(data->regmap, reg, readval);
@@ -905,22 +926,17 @@ static const struct iio_info em7180_info = {
 	.write_raw = em7180_write_raw,
 	.write_raw_get_fmt = em7180_write_raw_get_fmt,
 	.debugfs_reg_access = em7180_debugfs_reg_access,
-	.attrs = &em7180_attr_group,
+	.attrs = &em7180_attr_group, /* upstream: param */
 };
 
-/*
- * The registers a scan of @mask reads in one burst, 0 for the timestamp
- * alone, up to the TIME register of its last sensor: the quaternion's ends
- * at 0x12, each vector's block is 8 bytes from there, a feature sensor's
- * depends on how many there are.
- */
-static unsigned int em7180_scan_span(struct iio_dev *indio_dev,
-				     const unsigned long *mask,
+/* One burst up to the last sensor's TIME; 0 for the timestamp alone */
+static unsigned int em7180_scan_span(struct iio_dev *indio_dev, const unsigned long *mask,
 				     unsigned int *start)
 {
-	struct em7180_data *data = iio_priv(indio_dev);
+	struct em7180_data *data = iio_priv(indio_dev); /* upstream: feature */
 	const struct iio_chan_spec *chans = indio_dev->channels;
-	unsigned int n = EM7180_SCAN_TIMESTAMP + data->n_features;
+	unsigned int n = EM7180_SCAN_TIMESTAMP + data->n_features; /* upstream: feature */
+	/* upstream: !feature: unsigned int n = EM7180_SCAN_TIMESTAMP; */
 	unsigned int lo = find_first_bit(mask, n);
 	unsigned int hi = find_last_bit(mask, n);
 	unsigned int end = EM7180_REG_MX;
@@ -928,21 +944,21 @@ static unsigned int em7180_scan_span(struct iio_dev *indio_dev,
 	if (lo >= n)
 		return 0;
 
+	/* upstream: feature { */
 	if (hi >= EM7180_SCAN_TIMESTAMP)
 		end = em7180_feature_find(data, chans[hi].type)->end_reg;
 	else if (hi != EM7180_SCAN_QUAT)
+	/* upstream: } */
+	/* upstream: !feature: if (hi != EM7180_SCAN_QUAT) */
 		end += round_up(chans[hi].address + 1 - EM7180_REG_MX, 8);
 	*start = chans[lo].address;
 	return end - *start;
 }
 
 /*
- * Read and push a scan stamped @ts. The chip paused since @ts (a parameter
- * transfer, passthrough) may hold a newer sample than that: nothing is
- * pushed then. With the chip's own trigger (@own) a sample that came
- * between the EventStatus read and the burst was read by the previous
- * interrupt's burst, and its own interrupt finds it again, TIME included:
- * it is not pushed twice. Another trigger samples whatever the chip holds.
+ * With the chip's own trigger (@own) a sample that came between the
+ * EventStatus read and the burst is found again by its own interrupt, TIME
+ * included: it is not pushed twice.
  */
 static void em7180_scan(struct iio_dev *indio_dev, s64 ts, bool own)
 {
@@ -955,8 +971,10 @@ static void em7180_scan(struct iio_dev *indio_dev, s64 ts, bool own)
 
 	lockdep_assert_held(&data->lock);
 
+	/* upstream: param { */
 	if (ts < data->resumed)
 		return;
+	/* upstream: } */
 	len = em7180_scan_span(indio_dev, mask, &start);
 	if (len && regmap_bulk_read(data->regmap, start, data->burst, len))
 		return;
@@ -969,7 +987,10 @@ static void em7180_scan(struct iio_dev *indio_dev, s64 ts, bool own)
 
 	word = test_bit(EM7180_SCAN_QUAT, mask) ? data->scan.q.words :
 						  data->scan.words;
+	/* upstream: feature { */
 	for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP + data->n_features) {
+	/* upstream: } */
+	/* upstream: !feature: for_each_set_bit(bit, mask, EM7180_SCAN_TIMESTAMP) { */
 		src = &data->burst[indio_dev->channels[bit].address - start];
 		if (bit != EM7180_SCAN_QUAT) {
 			memcpy(word++, src, sizeof(*word));
@@ -978,17 +999,14 @@ static void em7180_scan(struct iio_dev *indio_dev, s64 ts, bool own)
 		for (i = 0; i < 4; i++)
 			data->scan.q.quat[i] = em7180_quat_component(&src[4 * i]);
 	}
-	iio_push_to_buffers_with_ts(indio_dev, &data->scan, sizeof(data->scan),
-				    ts);
+	iio_push_to_buffers_with_ts(indio_dev, &data->scan, sizeof(data->scan), ts);
+	/* upstream: param { */
 	if (own)
 		WRITE_ONCE(data->scan_ts, ts);
+	/* upstream: } */
 }
 
-/*
- * With the chip's own trigger this runs nested in em7180_irq_thread(),
- * which holds the lock since it read EventStatus: no transfer comes
- * between that and the burst.
- */
+/* With the chip's own trigger, nested in em7180_irq_thread(): lock held */
 static irqreturn_t em7180_trigger_handler(int irq, void *p)
 {
 	struct iio_poll_func *pf = p;
@@ -998,7 +1016,7 @@ static irqreturn_t em7180_trigger_handler(int irq, void *p)
 	/* Not iio_trigger_using_own(): the core sets that after enabling */
 	if (data->trig && indio_dev->trig == data->trig) {
 		em7180_scan(indio_dev, data->timestamp, true);
-		wake_up_all(&data->wq);
+		wake_up_all(&data->wq); /* upstream: param */
 	} else {
 		scoped_guard(em7180, data)
 			em7180_scan(indio_dev, pf->timestamp, false);
@@ -1017,11 +1035,7 @@ static irqreturn_t em7180_irq_handler(int irq, void *p)
 	return IRQ_WAKE_THREAD;
 }
 
-/*
- * Reading EventStatus clears it and lowers INT. On an edge-triggered line
- * a read lost to a bus error would leave INT high and no interrupt would
- * ever come again: it is retried.
- */
+/* A lost read would leave an edge-triggered INT high for good: retried */
 static int em7180_read_events(struct em7180_data *data, unsigned int *status)
 {
 	int ret, tries = EM7180_EVENT_READ_TRIES;
@@ -1033,11 +1047,6 @@ static int em7180_read_events(struct em7180_data *data, unsigned int *status)
 	return ret;
 }
 
-/*
- * EventStatus latches every event; INT rises for the enabled ones. A
- * CPUReset means the chip lost its configuration. In passthrough only the
- * events are read: the hub's bus is the host's then.
- */
 static irqreturn_t em7180_irq_thread(int irq, void *p)
 {
 	struct iio_dev *indio_dev = p;
@@ -1048,30 +1057,28 @@ static irqreturn_t em7180_irq_thread(int irq, void *p)
 	guard(mutex)(&data->lock);
 	ret = em7180_read_events(data, &status);
 	if (ret) {
-		dev_err_ratelimited(data->dev, "cannot read EventStatus: %d\n",
-				    ret);
+		dev_err_ratelimited(data->dev, "cannot read EventStatus: %d\n", ret);
 		return IRQ_HANDLED;
 	}
-	/* No enabled event pending: not the chip's interrupt */
 	status &= EM7180_EVENT_ALWAYS | data->pace_event;
 	if (!status)
 		return IRQ_NONE;
 
+	/* upstream: health { */
 	if (status & EM7180_EVENT_ERROR)
 		em7180_report_error(data);
 	if (status & EM7180_EVENT_CPU_RESET)
 		em7180_recover_schedule(data);
-	else if (status & EM7180_EVENT_DATA && !data->passthru)
+	else if (status & EM7180_EVENT_DATA && !data->passthru) /* upstream: passthru */
+	/* upstream: !passthru: else if (status & EM7180_EVENT_DATA) */
+	/* upstream: } */
+	/* upstream: !health: if (status & EM7180_EVENT_DATA) */
 		em7180_trigger_poll_nested(data->trig);
 
 	return IRQ_HANDLED;
 }
 
-/*
- * The event that paces the scans, one scan per step of the chip, and the
- * TIME register of its sensor: the quaternion when captured (the fusion
- * step), else the fastest captured sensor, else the gyroscope.
- */
+/* One scan per step: of the quaternion, else the fastest sensor captured */
 static void em7180_pace(struct iio_dev *indio_dev, const unsigned long *mask)
 {
 	struct em7180_data *data = iio_priv(indio_dev);
@@ -1086,18 +1093,18 @@ static void em7180_pace(struct iio_dev *indio_dev, const unsigned long *mask)
 		return;
 
 	for (s = em7180_sensors; s < em7180_sensors + ARRAY_SIZE(em7180_sensors); s++) {
-		if (find_next_bit(mask, s->scan_first + 3, s->scan_first) >=
-		    s->scan_first + 3 ||
-		    regmap_read(data->regmap, s->rate_reg, &rate) ||
-		    rate * s->hz_per_lsb <= best)
+		if (find_next_bit(mask, s->scan_first + 3, s->scan_first) >= s->scan_first + 3 ||
+		    regmap_read(data->regmap, s->rate_reg, &rate) || rate * s->hz_per_lsb <= best)
 			continue;
 		best = rate * s->hz_per_lsb;
 		pace = s;
 	}
 	data->pace_event = pace->event;
 	data->pace_time = indio_dev->channels[pace->scan_first].address + 6;
+	/* upstream: feature { */
 	if (em7180_feature_pace(data, mask, best))
 		data->pace_time = data->pace_feature->end_reg - 2;
+	/* upstream: } */
 }
 
 static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
@@ -1112,49 +1119,41 @@ static int em7180_trigger_set_state(struct iio_trigger *trig, bool state)
 		data->last_time = -1;
 		if (state)
 			em7180_pace(indio_dev, indio_dev->active_scan_mask);
+		/* upstream: param { */
 		/* No scan comes any more: transfers waiting for one go ahead */
 		else
 			wake_up_all(&data->wq);
-		ret = em7180_feature_report(data);
-		/*
-		 * A pending event keeps INT high: no edge would ever come. Read
-		 * before the data event is enabled: a sample that comes after
-		 * the read raises INT and is scanned, not cleared unread.
-		 */
+		/* upstream: } */
+		ret = em7180_feature_report(data); /* upstream: feature */
+		/* upstream: !feature: ret = 0; */
+		/* A pending event keeps INT high: read before enabling */
+		/* upstream: health { */
 		if (!ret && state) {
 			ret = em7180_read_events(data, &status);
 			if (!ret && (status & EM7180_EVENT_CPU_RESET))
 				ret = em7180_chip_recover(data);
 		}
+		/* upstream: } */
+		/* upstream: !health: if (!ret && state) */
+		/* upstream: !health:	ret = em7180_read_events(data, &status); */
 		ret = ret ?: regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
 					  EM7180_EVENT_ALWAYS | data->pace_event);
-		/*
-		 * Data interrupts left on, with no scan paced, would each be
-		 * unhandled, and the kernel disables a line after 100,000 of
-		 * them (note_interrupt()): asked once more.
-		 */
+		/* Unhandled data interrupts get the line disabled: ask again */
 		if (ret && !state)
 			ret = regmap_write(data->regmap, EM7180_REG_ENABLE_EVENTS,
 					   EM7180_EVENT_ALWAYS);
 	}
 
-	/*
-	 * When turning off fails, the core tears the buffer down but keeps the
-	 * poll function: reported here, not to the core.
-	 */
+	/* The core would keep the poll function: reported here */
 	if (ret && !state) {
-		dev_err(data->dev, "cannot turn the data interrupts off: %d\n",
-			ret);
+		dev_err(data->dev, "cannot turn the data interrupts off: %d\n", ret);
 		return 0;
 	}
 
 	return ret;
 }
 
-/* The pacing event's rate; the gyroscope's while no capture runs */
-static ssize_t sampling_frequency_show(struct device *dev,
-				       struct device_attribute *attr,
-				       char *buf)
+static ssize_t sampling_frequency_show(struct device *dev, struct device_attribute *attr, char *buf)
 {
 	struct iio_dev *indio_dev = iio_trigger_get_drvdata(to_iio_trigger(dev));
 	struct em7180_data *data = iio_priv(indio_dev);
@@ -1165,10 +1164,13 @@ static ssize_t sampling_frequency_show(struct device *dev,
 		if (em7180_sensors[i].event == event)
 			break;
 
+	/* upstream: feature { */
 	if (event == EM7180_EVENT_FEATURE)
 		ret = em7180_feature_read_freq(data, data->pace_feature, &hz);
 	else
 		ret = em7180_read_freq(data, &em7180_sensors[i], &hz);
+	/* upstream: } */
+	/* upstream: !feature: ret = em7180_read_freq(data, &em7180_sensors[i], &hz); */
 	if (ret < 0)
 		return ret;
 
@@ -1203,9 +1205,8 @@ static int em7180_trigger_probe(struct iio_dev *indio_dev, int irq)
 	data->trig->dev.groups = em7180_trigger_groups;
 	iio_trigger_set_drvdata(data->trig, indio_dev);
 
-	ret = devm_request_threaded_irq(dev, irq, em7180_irq_handler,
-					em7180_irq_thread, IRQF_ONESHOT,
-					indio_dev->name, indio_dev);
+	ret = devm_request_threaded_irq(dev, irq, em7180_irq_handler, em7180_irq_thread,
+					IRQF_ONESHOT, indio_dev->name, indio_dev);
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to request irq %d\n", irq);
 
@@ -1218,61 +1219,63 @@ static int em7180_trigger_probe(struct iio_dev *indio_dev, int irq)
 	return 0;
 }
 
+/* upstream: param { */
+/* current_timestamp_clock may have changed since the last pause */
+static int em7180_buffer_preenable(struct iio_dev *indio_dev)
+{
+	struct em7180_data *data = iio_priv(indio_dev);
+
+	guard(em7180)(data);
+	data->resumed = 0;
+	return 0;
+}
+
+static const struct iio_buffer_setup_ops em7180_buffer_ops = {
+	.preenable = em7180_buffer_preenable,
+	.postenable = em7180_watch_start, /* upstream: health */
+	.predisable = em7180_watch_stop, /* upstream: health */
+};
+
+/* upstream: } */
 static int em7180_read_status(struct em7180_data *data, unsigned int *status)
 {
 	return regmap_read(data->regmap, EM7180_REG_SENTRAL_STATUS, status);
 }
 
-static int em7180_reset(struct em7180_data *data, const char *why,
-			unsigned int status)
+/* A resetting chip may not acknowledge: a bus error is one more poll */
+static int em7180_wait_firmware(struct em7180_data *data, unsigned int *status)
 {
-	dev_warn(data->dev, "%s (SentralStatus 0x%02x): resetting it\n", why,
-		 status);
-	return regmap_write(data->regmap, EM7180_REG_RESET_REQ,
-			    EM7180_RESET_REQ_RESET);
+	int ret, err;
+
+	ret = read_poll_timeout(em7180_read_status, err,
+				!err && (*status & (EM7180_SENTRAL_UPLOAD_DONE |
+						    EM7180_SENTRAL_UPLOAD_ERR |
+						    EM7180_SENTRAL_NO_EEPROM)),
+				EM7180_UPLOAD_POLL_US, EM7180_UPLOAD_TIMEOUT_US, false, data,
+				status);
+	if (ret)
+		return err ?: ret;
+	if (*status & EM7180_SENTRAL_NO_EEPROM)
+		return -ENODEV;
+	return *status & EM7180_SENTRAL_UPLOAD_ERR ? -EIO : 0;
 }
 
-/*
- * The firmware upload from EEPROM after power-on or a reset; a chip found
- * stuck is reset once, as the USFS host libraries do. While it resets it
- * may not acknowledge its address: a bus error is one more poll.
- *
- * Return: 0, -ENODEV without a firmware EEPROM, -EIO for a failed upload,
- * -ETIMEDOUT, or the bus error; @status holds the last SentralStatus.
- */
-static int em7180_wait_firmware(struct em7180_data *data,
-				unsigned int *status)
+/* upstream: health { */
+static int em7180_reset(struct em7180_data *data, const char *why, unsigned int status)
 {
-	int ret, err, tries;
+	dev_warn(data->dev, "%s (SentralStatus 0x%02x): resetting it\n", why, status);
+	return regmap_write(data->regmap, EM7180_REG_RESET_REQ, EM7180_RESET_REQ_RESET);
+}
 
-	for (tries = 0; tries < 2; tries++) {
-		if (tries) {
-			ret = em7180_reset(data, "firmware upload not done",
-					   *status);
-			if (ret)
-				return ret;
-		}
+/* The upload from EEPROM, reset once when it fails, as the USFS host libraries do */
+static int em7180_wait_boot(struct em7180_data *data, unsigned int *status)
+{
+	int ret = em7180_wait_firmware(data, status);
 
-		ret = read_poll_timeout(em7180_read_status, err,
-					!err && (*status & (EM7180_SENTRAL_UPLOAD_DONE |
-							    EM7180_SENTRAL_UPLOAD_ERR |
-							    EM7180_SENTRAL_NO_EEPROM)),
-					EM7180_UPLOAD_POLL_US,
-					EM7180_UPLOAD_TIMEOUT_US, false, data,
-					status);
-		if (ret && err)
-			return err;
-		/* No reset brings an EEPROM: the host uploads, em7180_upload.c */
-		if (!ret && (*status & EM7180_SENTRAL_NO_EEPROM))
-			return -ENODEV;
-		if (!ret && (*status & EM7180_SENTRAL_UPLOAD_DONE) &&
-		    !(*status & EM7180_SENTRAL_UPLOAD_ERR))
-			return 0;
-	}
-
-	if (ret)
+	if (ret != -ETIMEDOUT && (ret != -EIO || !(*status & EM7180_SENTRAL_UPLOAD_ERR)))
 		return ret;
-	return *status & EM7180_SENTRAL_NO_EEPROM ? -ENODEV : -EIO;
+	ret = em7180_reset(data, "firmware upload not done", *status);
+	return ret ?: em7180_wait_firmware(data, status);
 }
 
 /*
@@ -1298,14 +1301,13 @@ static int em7180_check_alive(struct em7180_data *data, unsigned int *status)
 	ret = em7180_reset(data, "chip idle with its firmware loaded", *status);
 	if (ret)
 		return ret;
-	return em7180_wait_firmware(data, status);
+	return em7180_wait_boot(data, status);
 }
 
+/* upstream: } */
 /*
- * Configure with HostControl 0, then run, as em718x_core.c does; after a
- * power loss with the values of the register cache. Ends any transfer an
- * earlier user left, and reads EventStatus, which holds the upload's
- * CPUReset, so that enabling that event does not report a reset at once.
+ * As em718x_core.c: configure with HostControl 0, then run. EventStatus
+ * holds the upload's CPUReset: read, lest enabling it report a reset.
  */
 static int em7180_chip_configure(struct em7180_data *data, bool from_cache)
 {
@@ -1322,10 +1324,10 @@ static int em7180_chip_configure(struct em7180_data *data, bool from_cache)
 	unsigned int i, val;
 	int ret;
 
-	ret = em7180_feature_configure(data, from_cache);
+	ret = em7180_feature_configure(data, from_cache); /* upstream: feature */
+	/* upstream: !feature: ret = 0; */
 	for (i = 0; i < ARRAY_SIZE(seq) && !ret; i++) {
 		val = seq[i].def;
-		/* All but the transfer's end from the cache */
 		if (from_cache && i >= 2)
 			ret = regmap_read(data->regmap, seq[i].reg, &val);
 		if (!ret)
@@ -1337,36 +1339,8 @@ static int em7180_chip_configure(struct em7180_data *data, bool from_cache)
 	return regmap_read(data->regmap, EM7180_REG_EVENT_STATUS, &val);
 }
 
-/*
- * Standby for system sleep. A chip that does not confirm it is no reason
- * to keep the system awake: resume runs it again whatever happened.
- */
-static int em7180_standby(struct em7180_data *data)
-{
-	unsigned int status;
-	int ret;
-
-	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
-			   EM7180_ALGO_CTRL_STANDBY);
-	if (!ret)
-		ret = regmap_read_poll_timeout(data->regmap,
-					       EM7180_REG_ALGO_STATUS, status,
-					       status & EM7180_ALGO_STATUS_HALTED,
-					       EM7180_STANDBY_POLL_US,
-					       EM7180_STANDBY_TIMEOUT_US);
-	if (ret)
-		dev_warn(data->dev,
-			 "standby not confirmed (%d); resume runs the algorithm again\n",
-			 ret);
-
-	return 0;
-}
-
-/*
- * On unbind, after the IIO device and its interrupt, before devm turns the
- * supplies off: where those stay on, i2c-dev users find the chip quiet but
- * running (firmware serves no parameter transfer in standby).
- */
+/* upstream: param { */
+/* Supplies that stay on leave i2c-dev users the chip quiet but running */
 static void em7180_unbind_action(void *arg)
 {
 	struct em7180_data *data = arg;
@@ -1395,8 +1369,7 @@ static void em7180_unbind_action(void *arg)
  * Return: 0, -EINVAL for a blob calibration_data would refuse, or the
  * error of the parameter transfer.
  */
-VISIBLE_IF_KUNIT int em7180_caldata_apply(struct em7180_data *data,
-					  const u8 *blob, size_t size,
+VISIBLE_IF_KUNIT int em7180_caldata_apply(struct em7180_data *data, const u8 *blob, size_t size,
 					  const char *name)
 {
 	lockdep_assert_held(&data->lock);
@@ -1431,9 +1404,7 @@ static void em7180_caldata_restore(struct em7180_data *data)
 	const struct firmware *fw;
 	int ret = -ENOMEM;
 
-	char *name __free(kfree) = kasprintf(GFP_KERNEL,
-					     "em7180/caldata-%s.bin",
-					     dev_name(dev));
+	char *name __free(kfree) = kasprintf(GFP_KERNEL, "em7180/caldata-%s.bin", dev_name(dev));
 	if (name)
 		ret = firmware_request_nowarn(&fw, name, dev);
 	if (ret == -ENOENT)
@@ -1442,13 +1413,11 @@ static void em7180_caldata_restore(struct em7180_data *data)
 		dev_warn(dev, "cannot load %s: %d\n", name, ret);
 	if (!ret) {
 		scoped_guard(em7180, data)
-			ret = em7180_caldata_apply(data, fw->data, fw->size,
-						   name);
+			ret = em7180_caldata_apply(data, fw->data, fw->size, name);
 		if (!ret)
 			dev_info(dev, "restored calibration from %s\n", name);
 		else if (ret != -EINVAL)
-			dev_warn(dev, "%s: calibration not restored: %d\n",
-				 name, ret);
+			dev_warn(dev, "%s: calibration not restored: %d\n", name, ret);
 		release_firmware(fw);
 		/* After a failed transfer the offsets were read back */
 		if (ret != -EINVAL)
@@ -1461,6 +1430,7 @@ static void em7180_caldata_restore(struct em7180_data *data)
 		dev_warn(dev, "cannot read the accelerometer offsets: %d\n", ret);
 }
 
+/* upstream: } */
 /*
  * Another ID may be a compatible part: say so and go on, as bno055 does.
  * The first access after power-on may come while the chip still resets.
@@ -1470,10 +1440,9 @@ static int em7180_check_id(struct em7180_data *data)
 	u8 id[2];
 	int ret, err;
 
-	ret = read_poll_timeout(regmap_bulk_read, err, !err,
-				EM7180_READY_POLL_US, EM7180_READY_TIMEOUT_US,
-				false, data->regmap, EM7180_REG_PRODUCT_ID, id,
-				sizeof(id));
+	ret = read_poll_timeout(regmap_bulk_read, err, !err, EM7180_READY_POLL_US,
+				EM7180_READY_TIMEOUT_US, false, data->regmap, EM7180_REG_PRODUCT_ID,
+				id, sizeof(id));
 	if (ret)
 		return dev_err_probe(data->dev, err, "failed to read chip ID\n");
 
@@ -1487,14 +1456,12 @@ static int em7180_check_id(struct em7180_data *data)
 	return 0;
 }
 
-/* ROM and RAM versions, valid once the firmware is uploaded */
 static int em7180_read_versions(struct em7180_data *data)
 {
 	__le16 ver[2];
 	int ret;
 
-	ret = regmap_bulk_read(data->regmap, EM7180_REG_ROM_VERSION, ver,
-			       sizeof(ver));
+	ret = regmap_bulk_read(data->regmap, EM7180_REG_ROM_VERSION, ver, sizeof(ver));
 	if (ret)
 		return ret;
 
@@ -1503,14 +1470,6 @@ static int em7180_read_versions(struct em7180_data *data)
 	return 0;
 }
 
-/**
- * em7180_core_probe() - probe an EM7180 behind any bus
- * @dev: the bus device
- * @regmap: register map built with em7180_regmap_config
- * @irq: interrupt of the INT pin, or 0 when not wired
- *
- * Return: 0 or a negative error code.
- */
 int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 {
 	static const char * const regulators[] = { "vdd", "vddio" };
@@ -1531,11 +1490,10 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	ret = devm_mutex_init(dev, &data->lock);
 	if (ret)
 		return ret;
-	init_waitqueue_head(&data->wq);
+	init_waitqueue_head(&data->wq); /* upstream: param */
 	dev_set_drvdata(dev, indio_dev);
 
-	ret = devm_regulator_bulk_get_enable(dev, ARRAY_SIZE(regulators),
-					     regulators);
+	ret = devm_regulator_bulk_get_enable(dev, ARRAY_SIZE(regulators), regulators);
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to enable regulators\n");
 	fsleep(EM7180_POWER_ON_US);
@@ -1548,37 +1506,46 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
-	ret = em7180_wait_firmware(data, &status);
-	if (!ret)
-		ret = em7180_check_alive(data, &status);
-	if (ret && ret != -ENODEV)
-		return dev_err_probe(dev, ret,
-				     "firmware not ready (SentralStatus 0x%02x)\n",
+	ret = em7180_wait_boot(data, &status); /* upstream: health */
+	/* upstream: !health: ret = em7180_wait_firmware(data, &status); */
+	if (!ret) /* upstream: health */
+		ret = em7180_check_alive(data, &status); /* upstream: health */
+	if (ret && ret != -ENODEV) /* upstream: upload */
+	/* upstream: !upload: if (ret) */
+		return dev_err_probe(dev, ret, "firmware not ready (SentralStatus 0x%02x)\n",
 				     status);
 
+	/* upstream: upload { */
 	/* Without an EEPROM, or with a firmware-name: from the host */
 	ret = em7180_upload_probe(data, ret == -ENODEV);
 	if (ret)
 		return ret;
+	/* upstream: } */
 
 	ret = em7180_read_versions(data);
 	if (ret)
-		return dev_err_probe(dev, ret,
-				     "failed to read firmware versions\n");
+		return dev_err_probe(dev, ret, "failed to read firmware versions\n");
 
-	ret = em7180_feature_probe(indio_dev, em7180_channels,
-				   ARRAY_SIZE(em7180_channels));
+	/* upstream: feature { */
+	ret = em7180_feature_probe(indio_dev, em7180_channels, ARRAY_SIZE(em7180_channels));
 	if (ret)
 		return ret;
+	/* upstream: } */
+	/* upstream: !feature: indio_dev->channels = em7180_channels; */
+	/* upstream: !feature: indio_dev->num_channels = ARRAY_SIZE(em7180_channels); */
 
 	ret = em7180_chip_configure(data, false);
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to configure the chip\n");
 
+	/* upstream: param { */
 	ret = devm_add_action_or_reset(dev, em7180_unbind_action, data);
 	if (ret)
 		return ret;
 
+	/* upstream: } */
+
+	/* upstream: health { */
 	/*
 	 * Before the first parameter transfer, whose end may fail and ask
 	 * for a recovery; its teardown runs before the unbind action, which
@@ -1588,22 +1555,26 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
+	/* upstream: } */
+	/* upstream: param { */
 	scoped_guard(em7180, data)
 		ret = em7180_param_pointer(data);
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to probe the register pointer\n");
 
+	/* upstream: } */
+	/* upstream: cal { */
 	/* Streaming works without: the score is left out */
 	scoped_guard(em7180, data) {
 		ret = em7180_cal_detect(data);
 		if (ret)
-			dev_warn(dev, "cannot read the calibration registers: %d\n",
-				 ret);
+			dev_warn(dev, "cannot read the calibration registers: %d\n", ret);
 		data->appnote_attrs = data->appnote;
 	}
+	/* upstream: } */
 	em7180_id_line(data, id, sizeof(id));
 	dev_info(dev, "firmware %s\n", id);
-	em7180_caldata_restore(data);
+	em7180_caldata_restore(data); /* upstream: param */
 
 	indio_dev->name = "em7180";
 	indio_dev->info = &em7180_info;
@@ -1618,7 +1589,8 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	ret = devm_iio_triggered_buffer_setup(dev, indio_dev,
 					      iio_pollfunc_store_time,
 					      em7180_trigger_handler,
-					      &em7180_buffer_ops);
+					      &em7180_buffer_ops); /* upstream: param */
+					      /* upstream: !param: NULL); */
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to set up buffer\n");
 
@@ -1626,41 +1598,44 @@ int em7180_core_probe(struct device *dev, struct regmap *regmap, int irq)
 	if (ret)
 		return ret;
 
-	em7180_health_debugfs(indio_dev);
+	em7180_health_debugfs(indio_dev); /* upstream: health */
 	return 0;
 }
 EXPORT_SYMBOL_NS_GPL(em7180_core_probe, "IIO_EM7180");
 
-/**
- * em7180_chip_suspend() - keep the calibration and put the algorithm in standby
- * @data: driver state
- *
- * The warm start learned so far is read first, for resume to write back if
- * the chip loses power; a failed read keeps the last one known.
- *
- * Return: 0, or the error of the standby request, when the chip still runs.
- */
+/* Not confirmed is no reason to keep the system awake: 0 */
 int em7180_chip_suspend(struct em7180_data *data)
 {
-	struct em7180_caldata cal;
+	struct em7180_caldata cal; /* upstream: param */
+	unsigned int status;
 	int ret;
 
 	guard(em7180)(data);
+	/* upstream: param { */
+	/* The warm start read, for resume to write back after a power loss */
 	ret = em7180_warmstart_read(data, &cal);
 	if (ret)
-		dev_warn(data->dev,
-			 "cannot read the calibration before sleep: %d\n", ret);
+		dev_warn(data->dev, "cannot read the calibration before sleep: %d\n", ret);
+	/* upstream: } */
+	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, EM7180_ALGO_CTRL_STANDBY);
+	if (!ret)
+		ret = regmap_read_poll_timeout(data->regmap, EM7180_REG_ALGO_STATUS, status,
+					       status & EM7180_ALGO_STATUS_HALTED,
+					       EM7180_STANDBY_POLL_US, EM7180_STANDBY_TIMEOUT_US);
+	if (ret)
+		dev_warn(data->dev, "standby not confirmed (%d); resume runs the algorithm again\n",
+			 ret);
 
-	return em7180_standby(data);
+	return 0;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_chip_suspend);
 
+/* upstream: health { */
 /*
  * The calibration back after a reset if the firmware is the same (as
  * sentral-warmstart checks a saved file), else the chip's offsets read.
  */
-static int em7180_restore_calibration(struct em7180_data *data, u16 rom,
-				      u16 ram)
+static int em7180_restore_calibration(struct em7180_data *data, u16 rom, u16 ram)
 {
 	u32 vals[EM7180_WS_NUM_PARAMS];
 	unsigned int i;
@@ -1677,8 +1652,7 @@ static int em7180_restore_calibration(struct em7180_data *data, u16 rom,
 	if (data->ws_valid) {
 		for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 			vals[i] = get_unaligned_le32(&data->ws[4 * i]);
-		ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM,
-					  EM7180_WS_NUM_PARAMS, vals);
+		ret = em7180_params_write(data, EM7180_WS_FIRST_PARAM, EM7180_WS_NUM_PARAMS, vals);
 		if (!ret)
 			em7180_ws_set(data, vals);
 		return ret;
@@ -1687,27 +1661,23 @@ static int em7180_restore_calibration(struct em7180_data *data, u16 rom,
 	/* Offsets written while no warm start was known */
 	if (data->accel_offset_valid)
 		return em7180_params_write(data, EM7180_ACCEL_OFFSET_PARAM,
-					   ARRAY_SIZE(data->accel_offset),
-					   data->accel_offset);
+					   ARRAY_SIZE(data->accel_offset), data->accel_offset);
 
 	return em7180_accel_offset_fetch(data);
 }
 
 /*
- * One attempt at resuming, or at recovering from a reset. @lost is set once
- * a power loss was seen (a failed attempt may have set the chip running,
- * which then no longer shows it); @rom and @ram are the versions before it.
+ * One attempt at resuming or recovering. @lost stays set once a power loss
+ * was seen; @rom and @ram are the versions before it.
  */
-int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
-			u16 *ram)
+int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom, u16 *ram)
 {
 	unsigned int status = 0;
-	bool appnote;
+	bool appnote; /* upstream: cal */
 	int ret, err;
 
-	ret = read_poll_timeout(em7180_read_status, err, !err,
-				EM7180_READY_POLL_US, EM7180_READY_TIMEOUT_US,
-				false, data, &status);
+	ret = read_poll_timeout(em7180_read_status, err, !err, EM7180_READY_POLL_US,
+				EM7180_READY_TIMEOUT_US, false, data, &status);
 	if (ret)
 		return err;
 
@@ -1721,13 +1691,17 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 		*ram = data->ram_version;
 	}
 	*lost = true;
-	data->cal.valid = false;
+	data->cal.valid = false; /* upstream: cal */
+	/* upstream: param { */
 	/* The firmware may be another, with another latency */
 	data->ack_min_us = 0;
+	/* upstream: } */
 
-	ret = em7180_wait_firmware(data, &status);
+	ret = em7180_wait_boot(data, &status);
+	/* upstream: upload { */
 	if (!ret || ret == -ENODEV)
 		ret = em7180_upload(data, ret);
+	/* upstream: } */
 	if (ret) {
 		dev_err(data->dev,
 			"firmware not ready after a power loss (SentralStatus 0x%02x): %d\n",
@@ -1738,13 +1712,20 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 	ret = em7180_read_versions(data);
 	if (ret)
 		return ret;
+	/* upstream: cal { */
 	/* Other firmware may keep other things in 0x43-0x4E */
 	appnote = data->appnote;
 	if (*ram != data->ram_version)
 		data->appnote = false;
+	/* upstream: } */
 	ret = em7180_chip_configure(data, true);
+	/* upstream: param { */
 	if (!ret)
 		ret = em7180_restore_calibration(data, *rom, *ram);
+	/* upstream: } */
+	/* upstream: !cal: return ret; */
+/* upstream: !cal: } */
+	/* upstream: cal { */
 	if (ret || *ram == data->ram_version)
 		return ret;
 
@@ -1759,24 +1740,18 @@ int em7180_chip_restore(struct em7180_data *data, bool *lost, u16 *rom,
 	return ret;
 }
 
-/**
- * em7180_chip_resume() - run again, restoring the chip after a power loss
- * @data: driver state
- *
- * After a power loss the configuration is written back, HostControl last,
- * and the warm start saved at suspend (or the offsets) restored if the
- * firmware is the same. After a bus error the whole sequence is tried once
- * more, not after a timeout, which already took seconds.
- *
- * Return: 0 or a negative error code.
- */
+/* upstream: } */
+/* upstream: } */
+
 int em7180_chip_resume(struct em7180_data *data)
 {
-	u16 rom = 0, ram = 0;
-	bool lost = false;
+	u16 rom = 0, ram = 0; /* upstream: health */
+	bool lost = false; /* upstream: health */
 	int ret;
 
 	guard(em7180)(data);
+	/* upstream: health { */
+	/* Once more after a bus error, not after a timeout, which took seconds */
 	ret = em7180_chip_restore(data, &lost, &rom, &ram);
 	if (ret && ret != -ETIMEDOUT && ret != -ENODEV)
 		ret = em7180_chip_restore(data, &lost, &rom, &ram);
@@ -1786,6 +1761,8 @@ int em7180_chip_resume(struct em7180_data *data)
 	 */
 	if (!ret)
 		data->xfer_stuck = false;
+	/* upstream: } */
+	/* upstream: !health: ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0); */
 
 	return ret;
 }
@@ -1803,17 +1780,9 @@ static int em7180_suspend(struct device *dev)
 		return ret;
 	if (data->irq)
 		disable_irq(data->irq);
-	em7180_recover_stop(data);
+	em7180_recover_stop(data); /* upstream: health */
 
-	ret = em7180_chip_suspend(data);
-	if (ret) {
-		em7180_recover_start(data);
-		if (data->irq)
-			enable_irq(data->irq);
-		em7180_resume_triggering(indio_dev);
-	}
-
-	return ret;
+	return em7180_chip_suspend(data);
 }
 
 static int em7180_resume(struct device *dev)
@@ -1822,8 +1791,10 @@ static int em7180_resume(struct device *dev)
 	struct em7180_data *data = iio_priv(indio_dev);
 	int ret;
 
+	/* upstream: health { */
 	/* A restore that fails asks for a recovery */
 	em7180_recover_start(data);
+	/* upstream: } */
 	ret = em7180_chip_resume(data);
 	if (data->irq)
 		enable_irq(data->irq);
@@ -1832,8 +1803,7 @@ static int em7180_resume(struct device *dev)
 	return ret;
 }
 
-EXPORT_NS_GPL_SIMPLE_DEV_PM_OPS(em7180_pm_ops, em7180_suspend, em7180_resume,
-				IIO_EM7180);
+EXPORT_NS_GPL_SIMPLE_DEV_PM_OPS(em7180_pm_ops, em7180_suspend, em7180_resume, IIO_EM7180);
 
 MODULE_AUTHOR("The sentral project");
 MODULE_DESCRIPTION("PNI SENtral / EM7180 sensor-fusion hub core driver");

@@ -25,12 +25,6 @@
 #include "em7180_core.h"
 #include "em7180_compat.h"
 
-#define EM7180_F32_SIGN			BIT(31)
-#define EM7180_F32_EXP_MASK		GENMASK(30, 23)
-#define EM7180_F32_FRAC_MASK		GENMASK(22, 0)
-#define EM7180_F32_BIAS			127
-#define EM7180_F32_FRAC_BITS		23
-
 /* No document gives the acknowledge latency; EM's driver allows 1 s */
 #define EM7180_ACK_TIMEOUT_US		1000000U
 #define EM7180_ACK_WAIT_INIT_US		1000U
@@ -61,8 +55,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_is_finite);
  * em7180_lsb_to_float_g() - accelerometer offset in LSB to float32 in g
  * @lsb: offset in accelerometer LSB (1 LSB = 0.000488 g)
  *
- * Nearest float32 to @lsb * 0.000488, ties to even, as the application
- * note's Table 1 expects: -47 gives 0xBCBBE447.
+ * Nearest float32 to @lsb * 0.000488, ties to even: -47 gives 0xBCBBE447.
  *
  * Return: the IEEE-754 single precision bit pattern.
  */
@@ -143,45 +136,6 @@ int em7180_float_g_to_lsb(u32 bits, int *lsb)
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_float_g_to_lsb);
 
-/**
- * em7180_float_to_fixed() - float32 to signed fixed point
- * @bits: IEEE-754 single precision bit pattern
- * @frac_bits: number of fraction bits of the result, 0..30
- *
- * Rounds halves away from zero; saturates (±Inf too); NaN gives 0.
- *
- * Return: round(value * 2^frac_bits), saturated.
- */
-s32 em7180_float_to_fixed(u32 bits, unsigned int frac_bits)
-{
-	int e = (bits & EM7180_F32_EXP_MASK) >> EM7180_F32_FRAC_BITS;
-	bool neg = bits & EM7180_F32_SIGN;
-	u32 mant = bits & EM7180_F32_FRAC_MASK;
-	u32 val;
-	int shift;
-
-	if (e == 0xff && mant)
-		return 0;
-	/* |value| >= 2^(31 - frac_bits) does not fit */
-	if (e >= EM7180_F32_BIAS + 31 - (int)frac_bits)
-		return neg ? S32_MIN : S32_MAX;
-	if (!e)
-		return 0;	/* below 2^-126 */
-
-	/* value * 2^frac_bits = mant * 2^-shift with the hidden bit in mant */
-	mant |= BIT(EM7180_F32_FRAC_BITS);
-	shift = EM7180_F32_BIAS + EM7180_F32_FRAC_BITS - (int)frac_bits - e;
-	if (shift <= 0)
-		val = mant << -shift;
-	else if (shift > 25)
-		val = 0;
-	else
-		val = (mant + BIT(shift - 1)) >> shift;
-
-	return neg ? -(s32)val : (s32)val;
-}
-EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
-
 /*
  * Poll ParamAcknowledge (@len bytes: 5 take SavedParam along) until it
  * echoes @req. No public source gives the latency, and EM's driver allows
@@ -193,8 +147,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_to_fixed);
  * The least is a requested wait, not a time measured after a sleep: a
  * sleep's own overrun is then not added to every later parameter.
  */
-static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
-			    size_t len)
+static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf, size_t len)
 {
 	unsigned int first = data->ack_wait_us ?: EM7180_ACK_WAIT_INIT_US;
 	unsigned int wait = first;
@@ -205,10 +158,8 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 
 	for (;;) {
 		usleep_range(wait, wait + wait / 16 + 5);
-		took = min_t(s64, ktime_us_delta(ktime_get(), start),
-			     EM7180_ACK_TIMEOUT_US);
-		ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, buf,
-				       len);
+		took = min_t(s64, ktime_us_delta(ktime_get(), start), EM7180_ACK_TIMEOUT_US);
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, buf, len);
 		if (ret)
 			return ret;
 		if (buf[0] == req)
@@ -216,15 +167,13 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf,
 		if (took >= EM7180_ACK_TIMEOUT_US)
 			return -ETIMEDOUT;
 		early = true;
-		wait = clamp(took / 8, EM7180_ACK_STEP_MIN_US,
-			     EM7180_ACK_STEP_MAX_US);
+		wait = clamp(took / 8, EM7180_ACK_STEP_MIN_US, EM7180_ACK_STEP_MAX_US);
 	}
 
 	if (early) {
 		data->ack_min_us = min(max(data->ack_min_us, first + first / 8),
 				       EM7180_ACK_WAIT_MAX_US);
-		data->ack_wait_us = clamp(took, data->ack_min_us,
-					  EM7180_ACK_WAIT_MAX_US);
+		data->ack_wait_us = clamp(took, data->ack_min_us, EM7180_ACK_WAIT_MAX_US);
 	} else {
 		data->ack_wait_us = max(first - first / 8, data->ack_min_us);
 	}
@@ -253,23 +202,20 @@ int em7180_param_pointer(struct em7180_data *data)
 
 	lockdep_assert_held(&data->lock);
 
-	ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM + 3, probe,
-				sizeof(probe)) ?:
+	ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM + 3, probe, sizeof(probe)) ?:
 	      regmap_read(data->regmap, EM7180_REG_LOAD_PARAM + 3, &val);
 	if (ret)
 		return ret;
 
 	data->ptr_stops = val != probe[0];
 	if (data->ptr_stops)
-		dev_info(data->dev,
-			 "register pointer stops at 0x63: one register per message\n");
+		dev_info(data->dev, "register pointer stops at 0x63: one register per message\n");
 	return 0;
 }
 EXPORT_SYMBOL_IF_KUNIT(em7180_param_pointer);
 
 /* One request and its acknowledge; bit 7 set after the first (@start) */
-static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
-				u32 *out, bool start)
+static int em7180_param_request(struct em7180_data *data, u8 req, u32 in, u32 *out, bool start)
 {
 	bool stops = data->ptr_stops;
 	u8 buf[5];
@@ -278,8 +224,7 @@ static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
 	if (req & EM7180_PARAM_WRITE) {
 		put_unaligned_le32(in, buf);
 		buf[4] = req;
-		ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM, buf,
-					stops ? 4 : 5);
+		ret = regmap_bulk_write(data->regmap, EM7180_REG_LOAD_PARAM, buf, stops ? 4 : 5);
 		if (!ret && stops)
 			ret = regmap_write(data->regmap, EM7180_REG_PARAM_REQ, req);
 	} else {
@@ -287,13 +232,11 @@ static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
 	}
 	/* Never start on a request another user left behind */
 	if (!ret && start)
-		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
-				   EM7180_ALGO_CTRL_PARAM_XFER);
+		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, EM7180_ALGO_CTRL_PARAM_XFER);
 	if (!ret)
 		ret = em7180_param_ack(data, req, buf, out && !stops ? 5 : 1);
 	if (!ret && out && stops)
-		ret = regmap_bulk_read(data->regmap, EM7180_REG_SAVED_PARAM,
-				       &buf[1], 4);
+		ret = regmap_bulk_read(data->regmap, EM7180_REG_SAVED_PARAM, &buf[1], 4);
 	if (!ret && out)
 		*out = get_unaligned_le32(&buf[1]);
 
@@ -307,32 +250,37 @@ static int em7180_param_request(struct em7180_data *data, u8 req, u32 in,
  * along (they belong to the state saved or replaced), on firmware that
  * keeps them there.
  */
-static int em7180_param_begin(struct em7180_data *data, u8 first_req,
-			      bool *started)
+static int em7180_param_begin(struct em7180_data *data, u8 first_req, bool *started)
 {
 	u8 regs[EM7180_ACK_CAL_LEN];
+	/* upstream: cal { */
 	u8 *cal = &regs[EM7180_REG_CAL_STATUS - EM7180_REG_PARAM_ACK];
 	bool stops = data->ptr_stops;
 	bool flags = data->appnote;
+	/* upstream: } */
 	u32 dummy;
 	int ret;
 
+	/* upstream: cal { */
 	ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, regs,
 			       stops || !flags ? 1 : sizeof(regs));
 	if (!ret && stops && flags)
 		ret = regmap_bulk_read(data->regmap, EM7180_REG_CAL_STATUS, cal,
 				       EM7180_CAL_BLOCK_LEN);
+	/* upstream: } */
+	/* upstream: !cal: ret = regmap_bulk_read(data->regmap, EM7180_REG_PARAM_ACK, regs, 1); */
 	if (ret)
 		return ret;
+	/* upstream: cal { */
 	if (flags)
 		em7180_cal_update(data, cal);
+	/* upstream: } */
 	if (regs[0] != first_req)
 		return 0;
 
 	*started = true;
-	return em7180_param_request(data,
-				    (first_req & ~EM7180_PARAM_WRITE) %
-				    EM7180_PARAM_MAX + 1, 0, &dummy, true);
+	return em7180_param_request(data, (first_req & ~EM7180_PARAM_WRITE) % EM7180_PARAM_MAX + 1,
+				    0, &dummy, true);
 }
 
 /* End the transfer on every path */
@@ -348,11 +296,13 @@ static int em7180_param_end(struct em7180_data *data)
 	 */
 	em7180_resumed(data);
 	ret2 = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0);
+	/* upstream: health { */
 	/* Bit 7 would keep fusion paused: try again later, then reset */
 	if (ret2) {
 		data->xfer_stuck = true;
 		em7180_recover_schedule(data);
 	}
+	/* upstream: } */
 
 	return ret ?: ret2;
 }
@@ -372,9 +322,8 @@ static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
 
 	ret = em7180_param_begin(data, first | write, &started);
 	for (i = 0; !ret && i < count; i++) {
-		ret = em7180_param_request(data, (first + i) | write,
-					   in ? in[i] : 0, out ? &out[i] : NULL,
-					   !started);
+		ret = em7180_param_request(data, (first + i) | write, in ? in[i] : 0,
+					   out ? &out[i] : NULL, !started);
 		started = true;
 	}
 	end = em7180_param_end(data);
@@ -396,8 +345,7 @@ static int em7180_param_xfer(struct em7180_data *data, unsigned int first,
  * Return: 0, -EINVAL for a bad range, -ETIMEDOUT when a parameter is not
  * acknowledged within 1 s, or the bus error.
  */
-int em7180_params_read(struct em7180_data *data, unsigned int first,
-		       unsigned int count, u32 *vals)
+int em7180_params_read(struct em7180_data *data, unsigned int first, unsigned int count, u32 *vals)
 {
 	return em7180_param_xfer(data, first, count, NULL, vals);
 }

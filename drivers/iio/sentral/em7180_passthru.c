@@ -52,15 +52,12 @@ static int em7180_passthru_wait(struct em7180_data *data, unsigned int reg,
 {
 	unsigned int val;
 
-	return regmap_read_poll_timeout(data->regmap, reg, val,
-					!(val & bit) == !set,
-					EM7180_PASSTHRU_POLL_US,
-					EM7180_PASSTHRU_TIMEOUT_US);
+	return regmap_read_poll_timeout(data->regmap, reg, val, !(val & bit) == !set,
+					EM7180_PASSTHRU_POLL_US, EM7180_PASSTHRU_TIMEOUT_US);
 }
 
 /* Passthrough until em7180_passthru_deselect(), whatever this returns */
-VISIBLE_IF_KUNIT int em7180_passthru_select(struct i2c_mux_core *muxc,
-					    u32 chan_id)
+VISIBLE_IF_KUNIT int em7180_passthru_select(struct i2c_mux_core *muxc, u32 chan_id)
 {
 	struct em7180_data *data = i2c_mux_priv(muxc);
 	int ret;
@@ -68,15 +65,11 @@ VISIBLE_IF_KUNIT int em7180_passthru_select(struct i2c_mux_core *muxc,
 	guard(em7180)(data);
 	WRITE_ONCE(data->passthru, true);
 
-	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL,
-			   EM7180_ALGO_CTRL_STANDBY) ?:
-	      regmap_write(data->regmap, EM7180_REG_PASSTHRU_CTRL,
-			   EM7180_PASSTHRU_ON) ?:
-	      em7180_passthru_wait(data, EM7180_REG_PASSTHRU_STATUS,
-				   EM7180_PASSTHRU_ON, true);
+	ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, EM7180_ALGO_CTRL_STANDBY) ?:
+	      regmap_write(data->regmap, EM7180_REG_PASSTHRU_CTRL, EM7180_PASSTHRU_ON) ?:
+	      em7180_passthru_wait(data, EM7180_REG_PASSTHRU_STATUS, EM7180_PASSTHRU_ON, true);
 	if (ret)
-		dev_err_ratelimited(data->dev,
-				    "cannot enter passthrough: %d\n", ret);
+		dev_err_ratelimited(data->dev, "cannot enter passthrough: %d\n", ret);
 
 	return ret;
 }
@@ -88,8 +81,7 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_passthru_select);
  * its own. Events that came before: a reset or an error is handled as the
  * interrupt thread does; data is not pushed.
  */
-VISIBLE_IF_KUNIT int em7180_passthru_deselect(struct i2c_mux_core *muxc,
-					      u32 chan_id)
+VISIBLE_IF_KUNIT int em7180_passthru_deselect(struct i2c_mux_core *muxc, u32 chan_id)
 {
 	struct em7180_data *data = i2c_mux_priv(muxc);
 	unsigned int status;
@@ -97,22 +89,18 @@ VISIBLE_IF_KUNIT int em7180_passthru_deselect(struct i2c_mux_core *muxc,
 
 	guard(mutex)(&data->lock);
 	ret = regmap_write(data->regmap, EM7180_REG_PASSTHRU_CTRL, 0) ?:
-	      em7180_passthru_wait(data, EM7180_REG_PASSTHRU_STATUS,
-				   EM7180_PASSTHRU_ON, false);
+	      em7180_passthru_wait(data, EM7180_REG_PASSTHRU_STATUS, EM7180_PASSTHRU_ON, false);
 	if (!ret)
 		ret = regmap_write(data->regmap, EM7180_REG_ALGO_CTRL, 0) ?:
 		      em7180_passthru_wait(data, EM7180_REG_ALGO_STATUS,
 					   EM7180_ALGO_STATUS_HALTED, false);
 	if (!ret)
-		ret = regmap_read(data->regmap, EM7180_REG_EVENT_STATUS,
-				  &status);
+		ret = regmap_read(data->regmap, EM7180_REG_EVENT_STATUS, &status);
 
 	if (ret) {
 		dev_err_ratelimited(data->dev,
-				    "cannot leave passthrough (%d): resetting the chip\n",
-				    ret);
-		if (!regmap_write(data->regmap, EM7180_REG_RESET_REQ,
-				  EM7180_RESET_REQ_RESET))
+				    "cannot leave passthrough (%d): resetting the chip\n", ret);
+		if (!regmap_write(data->regmap, EM7180_REG_RESET_REQ, EM7180_RESET_REQ_RESET))
 			em7180_recover_schedule(data);
 	} else {
 		if (status & EM7180_EVENT_ERROR)

@@ -79,8 +79,7 @@ static_assert(sizeof(struct em7180_fw_header) == EM7180_FW_HEADER_LEN);
  *
  * Return: 0, or -EINVAL with @why set.
  */
-int em7180_fw_check(const u8 *image, size_t size, u16 rom, char *why,
-		    size_t len)
+int em7180_fw_check(const u8 *image, size_t size, u16 rom, char *why, size_t len)
 {
 	static const u16 rom_versions[] = {
 		[EM7180_FW_ROM_DI01] = EM7180_ROM_VERSION_DI01,
@@ -97,22 +96,19 @@ int em7180_fw_check(const u8 *image, size_t size, u16 rom, char *why,
 
 	magic = le16_to_cpu(hdr->magic);
 	if (magic != EM7180_FW_MAGIC) {
-		snprintf(why, len,
-			 "bad magic 0x%04x (expected 0x%04x): not a SENtral .fw image",
+		snprintf(why, len, "bad magic 0x%04x (expected 0x%04x): not a SENtral .fw image",
 			 magic, EM7180_FW_MAGIC);
 		return -EINVAL;
 	}
 
 	text_len = le16_to_cpu(hdr->text_length);
 	if (!text_len || text_len % 4) {
-		snprintf(why, len,
-			 "text length %u is not a whole number of 32-bit words",
+		snprintf(why, len, "text length %u is not a whole number of 32-bit words",
 			 text_len);
 		return -EINVAL;
 	}
 	if (size - sizeof(*hdr) < text_len) {
-		snprintf(why, len,
-			 "truncated: %zu bytes of text, the header says %u",
+		snprintf(why, len, "truncated: %zu bytes of text, the header says %u",
 			 size - sizeof(*hdr), text_len);
 		return -EINVAL;
 	}
@@ -121,14 +117,12 @@ int em7180_fw_check(const u8 *image, size_t size, u16 rom, char *why,
 	if (rom_exp == EM7180_FW_ROM_ANY)
 		return 0;
 	if (rom_exp >= ARRAY_SIZE(rom_versions)) {
-		snprintf(why, len,
-			 "built for unknown ROM code %u, the chip has ROM 0x%04x",
+		snprintf(why, len, "built for unknown ROM code %u, the chip has ROM 0x%04x",
 			 rom_exp, rom);
 		return -EINVAL;
 	}
 	if (rom != rom_versions[rom_exp]) {
-		snprintf(why, len,
-			 "built for ROM DI%02u (0x%04x), the chip has ROM 0x%04x",
+		snprintf(why, len, "built for ROM DI%02u (0x%04x), the chip has ROM 0x%04x",
 			 rom_exp, rom_versions[rom_exp], rom);
 		return -EINVAL;
 	}
@@ -165,11 +159,9 @@ static int em7180_upload_text(struct em7180_data *data, u32 *crc)
 	regcache_cache_bypass(map, true);
 
 	/* UploadAddress, most significant byte first, then upload mode */
-	ret = regmap_bulk_write(map, EM7180_REG_UPLOAD_ADDR, &addr,
-				sizeof(addr));
+	ret = regmap_bulk_write(map, EM7180_REG_UPLOAD_ADDR, &addr, sizeof(addr));
 	if (!ret)
-		ret = regmap_write(map, EM7180_REG_HOST_CTRL,
-				   EM7180_HOST_CTRL_UPLOAD);
+		ret = regmap_write(map, EM7180_REG_HOST_CTRL, EM7180_HOST_CTRL_UPLOAD);
 
 	for (off = 0; !ret && off < text_len; off += n) {
 		n = min(text_len - off, EM7180_UPLOAD_CHUNK);
@@ -180,8 +172,7 @@ static int em7180_upload_text(struct em7180_data *data, u32 *crc)
 
 	/* Read before upload mode ends, as em718x_core.c does */
 	if (!ret)
-		ret = regmap_bulk_read(map, EM7180_REG_CRC_HOST, &chip_crc,
-				       sizeof(chip_crc));
+		ret = regmap_bulk_read(map, EM7180_REG_CRC_HOST, &chip_crc, sizeof(chip_crc));
 
 	err = regmap_write(map, EM7180_REG_HOST_CTRL, 0);
 	regcache_cache_bypass(map, false);
@@ -227,8 +218,7 @@ int em7180_upload(struct em7180_data *data, int ret)
 			"firmware %s: CRC mismatch: the chip computed 0x%08x over the text it received, the header says 0x%08x\n",
 			data->fw_name, crc, le32_to_cpu(hdr->text_crc));
 	} else if (ret) {
-		dev_err(data->dev, "firmware %s: upload failed: %d\n",
-			data->fw_name, ret);
+		dev_err(data->dev, "firmware %s: upload failed: %d\n", data->fw_name, ret);
 	}
 
 	return ret;
@@ -279,13 +269,11 @@ int em7180_upload_probe(struct em7180_data *data, bool no_eeprom)
 		return ret;
 
 	guard(em7180)(data);
-	ret = regmap_bulk_read(data->regmap, EM7180_REG_ROM_VERSION, &rom,
-			       sizeof(rom));
+	ret = regmap_bulk_read(data->regmap, EM7180_REG_ROM_VERSION, &rom, sizeof(rom));
 	if (ret)
 		return dev_err_probe(dev, ret, "failed to read the ROM version\n");
 
-	ret = em7180_fw_check(fw->data, fw->size, le16_to_cpu(rom), why,
-			      sizeof(why));
+	ret = em7180_fw_check(fw->data, fw->size, le16_to_cpu(rom), why, sizeof(why));
 	if (ret)
 		return dev_err_probe(dev, ret, "firmware %s: %s\n", name, why);
 
@@ -298,8 +286,7 @@ int em7180_upload_probe(struct em7180_data *data, bool no_eeprom)
 				    "firmware %s: CRC mismatch: the chip computed 0x%08x over the text it received, the header says 0x%08x\n",
 				    name, crc, le32_to_cpu(hdr->text_crc));
 	} else if (ret) {
-		ret = dev_err_probe(dev, ret, "firmware %s: upload failed\n",
-				    name);
+		ret = dev_err_probe(dev, ret, "firmware %s: upload failed\n", name);
 	}
 	if (ret)
 		data->fw = NULL;
