@@ -66,8 +66,12 @@ is "it returns what was written" "$(blob_words <"$TMP/c.bin")" \
 # start; ParamRequest and bit 7 to end
 note=0
 [ -e "$DEV/in_magn_calibration_score" ] && note=1
-is "one register per transaction: 3 per parameter + $((4 + note))" \
-	"$(dbg_get stats transactions)" $((3 * 35 + 4 + note))
+# An early poll, while the acknowledge wait is learned again after the
+# bind (the chip's latency jitters), is one more transaction: the
+# simulator counts them apart.
+polls() { echo $(($(dbg_get stats transactions) - $(dbg_get stats ack_polls_early))); }
+is "one register per transaction: 3 per parameter + $((4 + note)), early polls aside" \
+	"$(polls)" $((3 * 35 + 4 + note))
 
 # A chip that crosses again, at the next binding
 knob autoinc_stop 0
@@ -83,6 +87,5 @@ is "it returns what was written" "$(blob_words <"$TMP/d.bin")" \
 knob stats 0
 ok "calibration_data read again" dd if="$DEV/calibration_data" \
 	of="$TMP/d.bin" bs=148 count=1 status=none
-is "two transactions per parameter + 4" "$(dbg_get stats transactions)" \
-	$((2 * 35 + 4))
+is "two transactions per parameter + 4, early polls aside" "$(polls)" $((2 * 35 + 4))
 done_testing

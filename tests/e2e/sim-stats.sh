@@ -21,6 +21,7 @@ bus_time_us 0
 elapsed_us 0
 nacks 0
 params_served 0
+ack_polls_early 0
 wire_waits 0
 wire_late_100us 0
 wire_late_1ms 0
@@ -60,6 +61,8 @@ t=$(dbg_get stats transactions)
 k=$((t - 4))
 bits=$((4 * 29 + k * 75))
 is "parameter read: one request served" "$(dbg_get stats params_served)" 1
+is "parameter read: the polls before the acknowledge counted early" \
+	"$(dbg_get stats ack_polls_early)" $((k - 1))
 is "parameter read: bytes" "$(dbg_get stats bytes)" $((4 * 2 + k * 6))
 is "parameter read: $bits bits * 2.5 us + 500 us" "$(dbg_get stats bus_time_us)" \
 	$(( (bits * 2500 + 500000 + 500) / 1000 ))

@@ -212,6 +212,8 @@ struct sim_stats {
 	u64 bus_ns;
 	u64 nacks;
 	u64 params_served;
+	/* ParamAcknowledge reads while a request still waited: early polls */
+	u64 ack_polls_early;
 	/* transfers that waited for their wire time, and how late they woke */
 	u64 wire_waits;
 	u64 wire_late_100us;	/* woke 100 us or more after its end */

@@ -649,6 +649,7 @@ static void stats_show(struct seq_file *m, struct sentral_sim *sim,
 		   st->transactions ? ktime_us_delta(st->last, st->first) : 0);
 	seq_printf(m, "nacks %llu\n", st->nacks);
 	seq_printf(m, "params_served %llu\n", st->params_served);
+	seq_printf(m, "ack_polls_early %llu\n", st->ack_polls_early);
 	seq_printf(m, "wire_waits %llu\n", st->wire_waits);
 	seq_printf(m, "wire_late_100us %llu\n", st->wire_late_100us);
 	seq_printf(m, "wire_late_1ms %llu\n", st->wire_late_1ms);

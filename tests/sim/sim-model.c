@@ -1070,6 +1070,8 @@ u8 sim_reg_read(struct sentral_sim *sim, u8 reg, ktime_t now, bool peek)
 		/* bit 5 unreliable sensor data, 0xc0 a glitch (§1) */
 		return v | sim->algo_status_or;
 	case SIM_REG_PARAM_ACK:
+		if (!peek && sim->req_pending)
+			sim->stats.ack_polls_early++;
 		return sim->param_ack;
 	case SIM_REG_SAVED_PARAM0 ... SIM_REG_SAVED_PARAM3:
 		return sim->saved_param[reg - SIM_REG_SAVED_PARAM0];
