@@ -1,20 +1,20 @@
 // SPDX-License-Identifier: GPL-2.0-only
 /*
- * KUnit tests for the EM7180 driver: parameter transfer against an emulated
- * register map on a custom regmap bus (exact bus sequences, batches,
- * acknowledge latency, timeouts, bus errors), float conversions, the
- * calibration score, warm start blob validation, the calibration_data
- * attribute's write path fed with random blobs, sizes and offsets, and the
- * calibration update counters and change checks.
+ * KUnit tests for the EM7180 driver, most against an emulated register map
+ * on a custom regmap bus: the parameter transfer (exact bus sequences,
+ * batches, acknowledge latency, timeouts, bus errors), float conversions,
+ * warm start blob validation, the calibration_data attribute's write path
+ * fed with random blobs, sizes and offsets, and the other helpers and bus
+ * sequences of the driver.
  */
 
 #include <kunit/test.h>
 #include <linux/cleanup.h>
 #include <linux/completion.h> /* upstream: passthru */
-#include <linux/delay.h>
+#include <linux/delay.h> /* upstream: health */
 #include <linux/device.h>
 #include <linux/errno.h>
-#include <linux/firmware.h>
+#include <linux/firmware.h> /* upstream: upload */
 #include <linux/i2c-mux.h> /* upstream: passthru */
 #include <linux/ktime.h>
 #include <linux/limits.h>
@@ -23,7 +23,7 @@
 #include <linux/prandom.h>
 #include <linux/regmap.h>
 #include <linux/string.h>
-#include <linux/workqueue.h>
+#include <linux/workqueue.h> /* upstream: health */
 
 #include "em7180.h"
 #include "em7180_core.h"
@@ -53,7 +53,9 @@ struct em7180_emu {
 	unsigned int n_log;
 	unsigned int transactions;
 	unsigned int nack_at;		/* fail this transaction (1-based) */
+	/* upstream: health { */
 	unsigned int end_nacks;		/* fail this many ends of bit 7 */
+	/* upstream: } */
 	bool ack_never;
 	enum emu_ack_end ack_end;
 	bool standby_stuck;		/* AlgorithmStatus never shows standby */
@@ -61,13 +63,15 @@ struct em7180_emu {
 	/* upstream: passthru { */
 	bool passthru_stuck;		/* PassThruStatus never clears */
 	/* upstream: } */
-	u8 algo_status;			/* AlgorithmStatus but bit 0 */
+	u8 algo_status;			/* AlgorithmStatus but bit 0 */ /* upstream: cal */
 	unsigned int ack_latency_us;
 	bool pending;
 	ktime_t req_time;
+	/* upstream: upload { */
 	/* What UploadData received, the register pointer staying on it */
 	u8 upload[256];
 	unsigned int upload_len;
+	/* upstream: } */
 };
 
 struct em7180_test {
@@ -161,19 +165,23 @@ static int emu_write(void *context, const void *buf, size_t count)
 
 	if (++emu->transactions == emu->nack_at)
 		return -EIO;
+	/* upstream: health { */
 	if (emu->end_nacks && b[0] == EM7180_REG_ALGO_CTRL && count == 2 &&
 	    (old_algo & ~b[1] & EM7180_ALGO_CTRL_PARAM_XFER)) {
 		emu->end_nacks--;
 		return -EIO;
 	}
+	/* upstream: } */
 
 	emu_log(emu, true, b[0], b + 1, count - 1);
+	/* upstream: upload { */
 	if (b[0] == EM7180_REG_UPLOAD_DATA) {
 		for (i = 1; i < count; i++)
 			if (emu->upload_len < sizeof(emu->upload))
 				emu->upload[emu->upload_len++] = b[i];
 		return 0;
 	}
+	/* upstream: } */
 	for (i = 1, reg = b[0]; i < count; i++, reg = emu_next(emu, reg)) {
 		emu->regs[reg] = b[i];
 		req |= reg == EM7180_REG_PARAM_REQ;
@@ -192,21 +200,21 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 {
 	struct em7180_emu *emu = context;
 	u8 p, reg = *(const u8 *)reg_buf;
-	bool flags = false;
 	unsigned int i;
 
 	if (++emu->transactions == emu->nack_at)
 		return -EIO;
 
 	emu_serve(emu);
-	emu->regs[EM7180_REG_ALGO_STATUS] = emu->algo_status |
-		(emu->standby_stuck ? 0 : emu->regs[EM7180_REG_ALGO_CTRL] &
-					  EM7180_ALGO_CTRL_STANDBY);
+	emu->regs[EM7180_REG_ALGO_STATUS] = emu->standby_stuck ? 0 :
+		emu->regs[EM7180_REG_ALGO_CTRL] & EM7180_ALGO_CTRL_STANDBY;
+	emu->regs[EM7180_REG_ALGO_STATUS] |= emu->algo_status; /* upstream: cal */
 	/* upstream: passthru { */
 	emu->regs[EM7180_REG_PASSTHRU_STATUS] = emu->passthru_stuck ?
 		EM7180_PASSTHRU_ON :
 		emu->regs[EM7180_REG_PASSTHRU_CTRL] & EM7180_PASSTHRU_ON;
 	/* upstream: } */
+	/* upstream: health { */
 	/* Once uploaded, the CPU is in standby until the host runs it */
 	if (emu->regs[EM7180_REG_SENTRAL_STATUS] & EM7180_SENTRAL_UPLOAD_DONE) {
 		if (emu->regs[EM7180_REG_HOST_CTRL] & EM7180_HOST_CTRL_RUN)
@@ -214,14 +222,16 @@ static int emu_read(void *context, const void *reg_buf, size_t reg_size,
 		else
 			emu->regs[EM7180_REG_SENTRAL_STATUS] |= EM7180_SENTRAL_STANDBY;
 	}
-	for (i = 0, p = reg; i < val_size; i++, p = emu_next(emu, p)) {
+	/* upstream: } */
+	for (i = 0, p = reg; i < val_size; i++, p = emu_next(emu, p))
 		((u8 *)val_buf)[i] = emu->regs[p];
-		flags |= p == EM7180_REG_CAL_FLAGS;
-	}
 	emu_log(emu, false, reg, val_buf, val_size);
+	/* upstream: cal { */
 	/* The update flags latch until read */
-	if (flags)
-		emu->regs[EM7180_REG_CAL_FLAGS] = 0;
+	for (i = 0, p = reg; i < val_size; i++, p = emu_next(emu, p))
+		if (p == EM7180_REG_CAL_FLAGS)
+			emu->regs[EM7180_REG_CAL_FLAGS] = 0;
+	/* upstream: } */
 
 	return 0;
 }
@@ -231,10 +241,12 @@ static const struct regmap_bus emu_bus = {
 	.read = emu_read,
 };
 
+/* upstream: health { */
 static void emu_no_recovery(struct work_struct *work)
 {
 }
 
+/* upstream: } */
 static int em7180_test_init(struct kunit *test)
 {
 	struct em7180_test *t;
@@ -261,18 +273,23 @@ static int em7180_test_init(struct kunit *test)
 
 	t->data->dev = t->dev;
 	t->data->regmap = map;
+	/* upstream: cal { */
 	/* Probe found firmware with the calibration registers */
 	t->data->appnote_attrs = true;
 	t->data->appnote = true;
+	/* upstream: } */
 	mutex_init(&t->data->lock);
 	init_waitqueue_head(&t->data->wq);
+	/* upstream: health { */
 	/* A transfer that cannot be ended asks for a recovery: none here */
 	INIT_DELAYED_WORK(&t->data->recover_work, emu_no_recovery);
+	/* upstream: } */
 	test->priv = t;
 
 	return 0;
 }
 
+/* upstream: health { */
 static void em7180_test_exit(struct kunit *test)
 {
 	struct em7180_test *t = test->priv;
@@ -284,6 +301,7 @@ static void em7180_test_exit(struct kunit *test)
 	cancel_delayed_work_sync(&t->data->recover_work);
 }
 
+/* upstream: } */
 static void expect_xfer(struct kunit *test, const struct em7180_emu *emu,
 			unsigned int i, bool write, u8 reg, const u8 *data,
 			u8 len)
@@ -313,6 +331,10 @@ static void expect_ended(struct kunit *test, const struct em7180_emu *emu)
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
 }
 
+/* A transfer's first read, from ParamAcknowledge on */
+#define TEST_BEGIN_LEN	(EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK) /* upstream: cal */
+/* upstream: !cal: #define TEST_BEGIN_LEN	1 */
+
 static int test_params_read(struct em7180_test *t, unsigned int first,
 			    unsigned int count, u32 *vals)
 {
@@ -340,12 +362,11 @@ static void em7180_test_param_read_sequence(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, val, 0x12345678U);
 
 	/*
-	 * The echo and the calibration registers, the request, then bit 7
-	 * as the reference drivers do, one poll with the value
+	 * The echo read first, the request, then bit 7 as the reference
+	 * drivers do, one poll with the value
 	 */
 	KUNIT_ASSERT_EQ(test, emu->n_log, 6U);
-	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL,
-		    EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK);
+	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL, TEST_BEGIN_LEN);
 	expect_xfer(test, emu, 1, true, EM7180_REG_PARAM_REQ, &req, 1);
 	expect_xfer(test, emu, 2, true, EM7180_REG_ALGO_CTRL, &start, 1);
 	expect_xfer(test, emu, 3, false, EM7180_REG_PARAM_ACK, NULL, 5);
@@ -366,8 +387,7 @@ static void em7180_test_param_write_sequence(struct kunit *test)
 
 	/* a write polls the acknowledge byte alone */
 	KUNIT_ASSERT_EQ(test, emu->n_log, 6U);
-	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL,
-		    EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK);
+	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL, TEST_BEGIN_LEN);
 	expect_xfer(test, emu, 1, true, EM7180_REG_LOAD_PARAM, burst, 5);
 	expect_xfer(test, emu, 2, true, EM7180_REG_ALGO_CTRL, &start, 1);
 	expect_xfer(test, emu, 3, false, EM7180_REG_PARAM_ACK, NULL, 1);
@@ -474,8 +494,7 @@ static void em7180_test_param_unknown_ack(struct kunit *test)
 
 	KUNIT_ASSERT_EQ(test, test_params_write(t, 28, 1, &val), 0);
 	KUNIT_EXPECT_EQ(test, emu->params[28], val);
-	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL,
-		    EM7180_REG_CAL_SCORE + 2 - EM7180_REG_PARAM_ACK);
+	expect_xfer(test, emu, 0, false, EM7180_REG_PARAM_ACK, NULL, TEST_BEGIN_LEN);
 	/* the read of parameter 29 that changes the echo */
 	expect_xfer(test, emu, 1, true, EM7180_REG_PARAM_REQ, NULL, 1);
 	KUNIT_EXPECT_EQ(test, emu->log[1].data[0], 29);
@@ -581,12 +600,17 @@ static void em7180_test_param_nack(struct kunit *test)
 		emu->transactions = 0;
 		emu->n_log = 0;
 		emu->nack_at = n;
-		t->data->xfer_stuck = false;
+		t->data->xfer_stuck = false; /* upstream: health */
 		ret = test_params_write(t, 27, 3, vals);
 		KUNIT_EXPECT_EQ_MSG(test, ret, -EIO, "NACK at %u", n);
-		/* Both ends are written; bit 7 left set asks for a recovery */
+		/* Both ends are written */
 		if (n == clean) {
+			/* upstream: health { */
+			/* bit 7 left set asks for a recovery */
 			KUNIT_EXPECT_TRUE(test, t->data->xfer_stuck);
+			/* upstream: } */
+			/* upstream: !health: KUNIT_EXPECT_EQ(test, */
+			/* upstream: !health:		emu->regs[EM7180_REG_PARAM_REQ], 0); */
 			emu->regs[EM7180_REG_ALGO_CTRL] = 0;
 		} else if (n == clean - 1) {
 			KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
@@ -609,8 +633,7 @@ static int test_pointer(struct em7180_test *t)
 
 /*
  * A register pointer that stops at 0x3A and 0x63, found at probe: reads
- * in the reference hosts' order return the right values, and the
- * calibration flags are not taken from a repeated byte.
+ * in the reference hosts' order return the right values.
  */
 static void em7180_test_param_autoinc_read(struct kunit *test)
 {
@@ -623,8 +646,11 @@ static void em7180_test_param_autoinc_read(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, test_pointer(t), 0);
 	KUNIT_EXPECT_TRUE(test, t->data->ptr_stops);
 	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_PARAM_REQ], 0);
+	/* upstream: cal { */
+	/* The calibration flags are not taken from a repeated byte */
 	emu->regs[EM7180_REG_PARAM_ACK] = EM7180_CAL_FLAG_MAG_UPDATE |
 					  EM7180_CAL_FLAG_GBIAS_UPDATE;
+	/* upstream: } */
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 		emu->params[i + 1] = 0x3F800000 + i;
 
@@ -636,9 +662,14 @@ static void em7180_test_param_autoinc_read(struct kunit *test)
 						sizeof(vals)));
 		expect_ended(test, emu);
 	}
-	KUNIT_EXPECT_EQ(test, t->data->cal.flags, 0);
-	/* request, poll, value: one more per parameter, and the cal block */
+	KUNIT_EXPECT_EQ(test, t->data->cal.flags, 0); /* upstream: cal */
+	/* request, poll, value: one more per parameter */
+	/* upstream: cal { */
+	/* and the calibration registers, read apart from the echo */
 	KUNIT_EXPECT_EQ(test, emu->transactions, 3 * EM7180_WS_NUM_PARAMS + 5);
+	/* upstream: } */
+	/* upstream: !cal: KUNIT_EXPECT_EQ(test, emu->transactions, */
+	/* upstream: !cal:		3 * EM7180_WS_NUM_PARAMS + 4); */
 }
 
 /*
@@ -668,8 +699,13 @@ static void em7180_test_param_autoinc_write(struct kunit *test)
 	in[0] = 0x3F800000;
 	KUNIT_ASSERT_EQ(test, test_params_write(t, 1, 1, in), 0);
 	KUNIT_EXPECT_EQ(test, emu->params[1], in[0]);
+	/* upstream: cal { */
+	/* after the echo and the calibration registers */
 	expect_xfer(test, emu, 2, true, EM7180_REG_LOAD_PARAM, NULL, 4);
 	expect_xfer(test, emu, 3, true, EM7180_REG_PARAM_REQ, NULL, 1);
+	/* upstream: } */
+	/* upstream: !cal: expect_xfer(test, emu, 1, true, EM7180_REG_LOAD_PARAM, NULL, 4); */
+	/* upstream: !cal: expect_xfer(test, emu, 2, true, EM7180_REG_PARAM_REQ, NULL, 1); */
 }
 
 /* A pointer that crosses: one burst each way, even for an echo-like value */
@@ -800,6 +836,7 @@ static void em7180_test_float_fixed(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, em7180_float_to_fixed(0x7FC00000, 14), 0);	/* NaN */
 }
 
+/* upstream: cal { */
 static void em7180_test_score(struct kunit *test)
 {
 	static const struct {
@@ -821,6 +858,7 @@ static void em7180_test_score(struct kunit *test)
 				    cases[i].milli, "raw 0x%04x", cases[i].raw);
 }
 
+/* upstream: } */
 /* The header of a blob read from ProductID 0x80 RevisionID 0x02 ROM 0x09E6 RAM 0x0D17 */
 static const u8 test_caldata_id[] = { 1, 0x80, 0x02, 0, 0xE6, 0x09, 0x17, 0x0D };
 
@@ -1069,6 +1107,90 @@ static void test_configure(struct kunit *test, struct em7180_test *t)
 	t->emu.regs[EM7180_REG_SENTRAL_STATUS] = 0x03;
 }
 
+/*
+ * A standby the chip never confirms: suspend does not fail with the
+ * algorithm halted (the PM core would not resume it); resume runs it.
+ */
+static void em7180_test_pm_standby_stuck(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	int ret;
+
+	test_configure(test, t);
+	emu->standby_stuck = true;
+	ret = em7180_chip_suspend(t->data);
+	if (ret)
+		KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
+	else
+		KUNIT_EXPECT_EQ(test, em7180_chip_resume(t->data), 0);
+	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
+}
+
+/* calibbias reads never reach the bus, and fail while the copy is unknown */
+static void em7180_test_calibbias_copy(struct kunit *test)
+{
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	int lsb;
+
+	t->data->accel_offset_valid = false;
+	KUNIT_EXPECT_EQ(test, em7180_read_calibbias(t->data, 1, &lsb), -ENODATA);
+	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
+
+	/* A write while the copy is unknown reads the offsets back */
+	emu->params[29] = 0x3CB7E4DE;
+	KUNIT_ASSERT_EQ(test, em7180_write_calibbias(t->data, 0, -47), 0);
+	emu->transactions = 0;
+	KUNIT_ASSERT_EQ(test, em7180_read_calibbias(t->data, 0, &lsb), 0);
+	KUNIT_EXPECT_EQ(test, lsb, -47);
+	KUNIT_ASSERT_EQ(test, em7180_read_calibbias(t->data, 2, &lsb), 0);
+	KUNIT_EXPECT_EQ(test, lsb, 46);
+	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
+}
+
+/*
+ * A calibration_data read never returns a blob that the write path
+ * refuses: a non-finite parameter fails it with -EIO, leaving the caller's
+ * buffer and the driver's valid copy as they were; a finite one succeeds.
+ */
+static void em7180_test_ws_read_nonfinite(struct kunit *test)
+{
+	static const u32 bad[] = { 0x7FC00000, 0x7F800000, 0xFF800000,
+				   0xFFFFFFFF };
+	struct em7180_test *t = test->priv;
+	struct em7180_emu *emu = &t->emu;
+	u8 buf[EM7180_CALDATA_SIZE], ws[EM7180_WS_SIZE];
+	unsigned int i, n;
+	int ret;
+
+	test_configure(test, t);
+	memcpy(ws, t->data->ws, sizeof(ws));
+	for (i = 0; i < ARRAY_SIZE(bad); i++) {
+		n = 1 + 17 * i % EM7180_WS_NUM_PARAMS;
+		emu->params[n] = bad[i];
+		emu->n_log = 0;
+		memset(buf, 0xAA, sizeof(buf));
+		scoped_guard(mutex, &t->data->lock)
+			ret = em7180_warmstart_read(t->data, (void *)buf);
+		KUNIT_EXPECT_EQ_MSG(test, ret, -EIO, "0x%08x", bad[i]);
+		KUNIT_EXPECT_NULL(test, memchr_inv(buf, 0xAA, sizeof(buf)));
+		KUNIT_EXPECT_TRUE(test, t->data->ws_valid);
+		KUNIT_EXPECT_EQ(test, memcmp(t->data->ws, ws, sizeof(ws)), 0);
+		expect_ended(test, emu);
+		emu->params[n] = 0x3F800000 + n - 1;
+	}
+
+	emu->params[35] = 0x80000001;	/* -0 and subnormals are finite */
+	scoped_guard(mutex, &t->data->lock)
+		ret = em7180_warmstart_read(t->data, (void *)buf);
+	KUNIT_ASSERT_EQ(test, ret, 0);
+	KUNIT_EXPECT_EQ(test, em7180_warmstart_check(buf, 0, sizeof(buf), true), 0);
+	KUNIT_EXPECT_EQ(test, get_unaligned_le32(&buf[8 + 4 * 34]), 0x80000001U);
+	KUNIT_EXPECT_EQ(test, memcmp(t->data->ws, &buf[8], EM7180_WS_SIZE), 0);
+}
+
+/* upstream: health { */
 /* Power lost: registers and parameters gone, CPU in standby */
 static void test_power_loss(struct em7180_emu *emu)
 {
@@ -1225,26 +1347,6 @@ static void em7180_test_pm_restore_order(struct kunit *test)
 }
 
 /*
- * A standby the chip never confirms: suspend does not fail with the
- * algorithm halted (the PM core would not resume it); resume runs it.
- */
-static void em7180_test_pm_standby_stuck(struct kunit *test)
-{
-	struct em7180_test *t = test->priv;
-	struct em7180_emu *emu = &t->emu;
-	int ret;
-
-	test_configure(test, t);
-	emu->standby_stuck = true;
-	ret = em7180_chip_suspend(t->data);
-	if (ret)
-		KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
-	else
-		KUNIT_EXPECT_EQ(test, em7180_chip_resume(t->data), 0);
-	KUNIT_EXPECT_EQ(test, emu->regs[EM7180_REG_ALGO_CTRL], 0);
-}
-
-/*
  * A power loss that brings other firmware: the warm start of the old one
  * is not written (sentral-warmstart refuses such a file too).
  */
@@ -1370,28 +1472,6 @@ static void em7180_test_recover_suspend(struct kunit *test)
 	KUNIT_EXPECT_TRUE(test, delayed_work_pending(&data->recover_work));
 }
 
-/* calibbias reads never reach the bus, and fail while the copy is unknown */
-static void em7180_test_calibbias_copy(struct kunit *test)
-{
-	struct em7180_test *t = test->priv;
-	struct em7180_emu *emu = &t->emu;
-	int lsb;
-
-	t->data->accel_offset_valid = false;
-	KUNIT_EXPECT_EQ(test, em7180_read_calibbias(t->data, 1, &lsb), -ENODATA);
-	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
-
-	/* A write while the copy is unknown reads the offsets back */
-	emu->params[29] = 0x3CB7E4DE;
-	KUNIT_ASSERT_EQ(test, em7180_write_calibbias(t->data, 0, -47), 0);
-	emu->transactions = 0;
-	KUNIT_ASSERT_EQ(test, em7180_read_calibbias(t->data, 0, &lsb), 0);
-	KUNIT_EXPECT_EQ(test, lsb, -47);
-	KUNIT_ASSERT_EQ(test, em7180_read_calibbias(t->data, 2, &lsb), 0);
-	KUNIT_EXPECT_EQ(test, lsb, 46);
-	KUNIT_EXPECT_EQ(test, emu->transactions, 0U);
-}
-
 /*
  * A parameter that is no finite float, met at suspend, does not replace
  * the last valid warm start: that one comes back after a power loss.
@@ -1410,47 +1490,6 @@ static void em7180_test_pm_nonfinite_keeps_ws(struct kunit *test)
 	KUNIT_ASSERT_EQ(test, em7180_chip_resume(t->data), 0);
 	expect_restored(test, t, 0);
 	expect_ended(test, emu);
-}
-
-/*
- * A calibration_data read never returns a blob that the write path
- * refuses: a non-finite parameter fails it with -EIO, leaving the caller's
- * buffer and the driver's valid copy as they were; a finite one succeeds.
- */
-static void em7180_test_ws_read_nonfinite(struct kunit *test)
-{
-	static const u32 bad[] = { 0x7FC00000, 0x7F800000, 0xFF800000,
-				   0xFFFFFFFF };
-	struct em7180_test *t = test->priv;
-	struct em7180_emu *emu = &t->emu;
-	u8 buf[EM7180_CALDATA_SIZE], ws[EM7180_WS_SIZE];
-	unsigned int i, n;
-	int ret;
-
-	test_configure(test, t);
-	memcpy(ws, t->data->ws, sizeof(ws));
-	for (i = 0; i < ARRAY_SIZE(bad); i++) {
-		n = 1 + 17 * i % EM7180_WS_NUM_PARAMS;
-		emu->params[n] = bad[i];
-		emu->n_log = 0;
-		memset(buf, 0xAA, sizeof(buf));
-		scoped_guard(mutex, &t->data->lock)
-			ret = em7180_warmstart_read(t->data, (void *)buf);
-		KUNIT_EXPECT_EQ_MSG(test, ret, -EIO, "0x%08x", bad[i]);
-		KUNIT_EXPECT_NULL(test, memchr_inv(buf, 0xAA, sizeof(buf)));
-		KUNIT_EXPECT_TRUE(test, t->data->ws_valid);
-		KUNIT_EXPECT_EQ(test, memcmp(t->data->ws, ws, sizeof(ws)), 0);
-		expect_ended(test, emu);
-		emu->params[n] = 0x3F800000 + n - 1;
-	}
-
-	emu->params[35] = 0x80000001;	/* -0 and subnormals are finite */
-	scoped_guard(mutex, &t->data->lock)
-		ret = em7180_warmstart_read(t->data, (void *)buf);
-	KUNIT_ASSERT_EQ(test, ret, 0);
-	KUNIT_EXPECT_EQ(test, em7180_warmstart_check(buf, 0, sizeof(buf), true), 0);
-	KUNIT_EXPECT_EQ(test, get_unaligned_le32(&buf[8 + 4 * 34]), 0x80000001U);
-	KUNIT_EXPECT_EQ(test, memcmp(t->data->ws, &buf[8], EM7180_WS_SIZE), 0);
 }
 
 static void em7180_test_pm_no_power_loss(struct kunit *test)
@@ -1472,6 +1511,7 @@ static void em7180_test_pm_no_power_loss(struct kunit *test)
 	expect_xfer(test, emu, 1, true, EM7180_REG_ALGO_CTRL, &run, 1);
 }
 
+/* upstream: } */
 static int test_caldata_apply(struct em7180_test *t, const u8 *blob,
 			      size_t size)
 {
@@ -1499,7 +1539,7 @@ static void test_caldata_blob(struct em7180_test *t, u8 *blob)
 /*
  * The restore at probe: one parameter write of all 35 and nothing else
  * (the offsets come from the blob, not from a read), kept for a power
- * loss, the update flags those of the state replaced.
+ * loss.
  */
 static void em7180_test_caldata_apply(struct kunit *test)
 {
@@ -1514,8 +1554,11 @@ static void em7180_test_caldata_apply(struct kunit *test)
 	test_caldata_blob(t, blob);
 	for (i = 0; i < EM7180_WS_NUM_PARAMS; i++)
 		vals[i] = get_unaligned_le32(&blob[8 + 4 * i]);
+	/* upstream: cal { */
+	/* The update flags go with the state replaced */
 	t->data->cal.flags = EM7180_CAL_FLAG_MAG_UPDATE;
 	t->data->cal.valid = true;
+	/* upstream: } */
 
 	KUNIT_ASSERT_EQ(test, test_caldata_apply(t, blob, sizeof(blob)), 0);
 	KUNIT_EXPECT_EQ(test, emu->transactions, 2 * EM7180_WS_NUM_PARAMS + 4);
@@ -1527,8 +1570,10 @@ static void em7180_test_caldata_apply(struct kunit *test)
 
 	KUNIT_EXPECT_TRUE(test, t->data->ws_valid);
 	KUNIT_EXPECT_EQ(test, memcmp(t->data->ws, &blob[8], EM7180_WS_SIZE), 0);
+	/* upstream: cal { */
 	KUNIT_EXPECT_EQ(test, t->data->cal.flags, 0);
 	KUNIT_EXPECT_FALSE(test, t->data->cal.valid);
+	/* upstream: } */
 
 	/* calibbias from the blob, without the bus */
 	emu->transactions = 0;
@@ -1684,6 +1729,7 @@ static void em7180_test_caldata_read_header(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, test_caldata_apply(t, buf, sizeof(cal)), 0);
 }
 
+/* upstream: upload { */
 /* A .fw image of @len bytes of text 0x00, 0x01, ... and its CRC field */
 static struct firmware *test_upload_image(struct kunit *test, u16 len,
 					  u32 crc)
@@ -1791,6 +1837,7 @@ static void em7180_test_upload_errors(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, val, EM7180_HOST_CTRL_RUN);
 }
 
+/* upstream: } */
 /* upstream: passthru { */
 struct test_locker {
 	struct work_struct work;
@@ -1883,8 +1930,8 @@ static void em7180_test_passthru_recover(struct kunit *test)
 /* upstream: } */
 static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_read_sequence),
-	KUNIT_CASE(em7180_test_upload_sequence),
-	KUNIT_CASE(em7180_test_upload_errors),
+	KUNIT_CASE(em7180_test_upload_sequence), /* upstream: upload */
+	KUNIT_CASE(em7180_test_upload_errors), /* upstream: upload */
 	/* upstream: passthru { */
 	KUNIT_CASE(em7180_test_passthru_sequence),
 	KUNIT_CASE_SLOW(em7180_test_passthru_recover),
@@ -1902,18 +1949,18 @@ static struct kunit_case em7180_param_cases[] = {
 	KUNIT_CASE(em7180_test_param_autoinc_write),
 	KUNIT_CASE(em7180_test_param_echo_value),
 	KUNIT_CASE(em7180_test_param_range),
-	KUNIT_CASE(em7180_test_pm_power_loss),
-	KUNIT_CASE(em7180_test_pm_power_loss_nack),
-	KUNIT_CASE(em7180_test_pm_no_power_loss),
-	KUNIT_CASE(em7180_test_pm_nonfinite_keeps_ws),
+	KUNIT_CASE(em7180_test_pm_power_loss), /* upstream: health */
+	KUNIT_CASE(em7180_test_pm_power_loss_nack), /* upstream: health */
+	KUNIT_CASE(em7180_test_pm_no_power_loss), /* upstream: health */
+	KUNIT_CASE(em7180_test_pm_nonfinite_keeps_ws), /* upstream: health */
 	KUNIT_CASE(em7180_test_ws_read_nonfinite),
-	KUNIT_CASE(em7180_test_pm_live_calibration),
-	KUNIT_CASE_SLOW(em7180_test_pm_offsets_without_ws),
-	KUNIT_CASE(em7180_test_pm_restore_order),
+	KUNIT_CASE(em7180_test_pm_live_calibration), /* upstream: health */
+	KUNIT_CASE_SLOW(em7180_test_pm_offsets_without_ws), /* upstream: health */
+	KUNIT_CASE(em7180_test_pm_restore_order), /* upstream: health */
 	KUNIT_CASE_SLOW(em7180_test_pm_standby_stuck),
-	KUNIT_CASE(em7180_test_pm_firmware_changed),
-	KUNIT_CASE(em7180_test_recover_teardown),
-	KUNIT_CASE(em7180_test_recover_suspend),
+	KUNIT_CASE(em7180_test_pm_firmware_changed), /* upstream: health */
+	KUNIT_CASE(em7180_test_recover_teardown), /* upstream: health */
+	KUNIT_CASE(em7180_test_recover_suspend), /* upstream: health */
 	KUNIT_CASE(em7180_test_calibbias_copy),
 	KUNIT_CASE(em7180_test_warmstart_fuzz),
 	KUNIT_CASE(em7180_test_caldata_apply),
@@ -1927,10 +1974,11 @@ static struct kunit_case em7180_param_cases[] = {
 static struct kunit_suite em7180_param_suite = {
 	.name = "em7180_param",
 	.init = em7180_test_init,
-	.exit = em7180_test_exit,
+	.exit = em7180_test_exit, /* upstream: health */
 	.test_cases = em7180_param_cases,
 };
 
+/* upstream: feature { */
 struct em7180_test_layout {
 	unsigned int flags;
 	int n;
@@ -2023,6 +2071,8 @@ static void em7180_test_feature_channels(struct kunit *test)
 	KUNIT_EXPECT_EQ(test, chans[4].scan_type.storagebits, 64);
 }
 
+/* upstream: } */
+/* upstream: upload { */
 /* A .fw image: the 16-byte header, then text_len bytes of text */
 static u8 *test_fw_image(struct kunit *test, u16 magic, u16 flags,
 			 u16 text_len, size_t size)
@@ -2101,16 +2151,17 @@ static void em7180_test_fw_check(struct kunit *test)
 	TEST_FW_CHECK(img, 16 + 0xfffc, di02, 0, "");
 }
 
+/* upstream: } */
 static struct kunit_case em7180_format_cases[] = {
-	KUNIT_CASE(em7180_test_feature_layout),
-	KUNIT_CASE(em7180_test_feature_channels),
+	KUNIT_CASE(em7180_test_feature_layout), /* upstream: feature */
+	KUNIT_CASE(em7180_test_feature_channels), /* upstream: feature */
 	KUNIT_CASE(em7180_test_float_table1),
 	KUNIT_CASE(em7180_test_float_lsb),
 	KUNIT_CASE(em7180_test_float_rounding),
 	KUNIT_CASE(em7180_test_float_fixed),
-	KUNIT_CASE(em7180_test_score),
+	KUNIT_CASE(em7180_test_score), /* upstream: cal */
 	KUNIT_CASE(em7180_test_warmstart_check),
-	KUNIT_CASE(em7180_test_fw_check),
+	KUNIT_CASE(em7180_test_fw_check), /* upstream: upload */
 	{ }
 };
 
@@ -2119,6 +2170,7 @@ static struct kunit_suite em7180_format_suite = {
 	.test_cases = em7180_format_cases,
 };
 
+/* upstream: cal { */
 /* Registers 0x43..0x4E with CalStatus, the 0x44 flags and the score */
 static void test_cal_block(u8 *regs, u8 status, u8 flags, u16 score)
 {
@@ -2359,12 +2411,16 @@ static struct kunit_case em7180_cal_cases[] = {
 static struct kunit_suite em7180_cal_suite = {
 	.name = "em7180_cal",
 	.init = em7180_test_init,
-	.exit = em7180_test_exit,
+	.exit = em7180_test_exit, /* upstream: health */
 	.test_cases = em7180_cal_cases,
 };
 
+/* upstream: } */
+/* upstream: cal { */
 kunit_test_suites(&em7180_param_suite, &em7180_format_suite,
 		  &em7180_cal_suite);
+/* upstream: } */
+/* upstream: !cal: kunit_test_suites(&em7180_param_suite, &em7180_format_suite); */
 
 MODULE_DESCRIPTION("KUnit tests for the EM7180 driver");
 MODULE_LICENSE("GPL");
