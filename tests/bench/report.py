@@ -355,8 +355,10 @@ def main():
             q + ".min_transactions": fl["transactions"],
             q + ".elapsed_us": g["elapsed_us"],
             q + ".time_us": time_us,
+            # with the early acknowledge polls, where the bench counted them
             q + ".runs": [{k: get(r, k) for k in
-                           ("transactions", "bus_time_us", "elapsed_us")}
+                           ("transactions", "bus_time_us", "elapsed_us", "ack_polls_early")
+                           if "%s%s.%s.%s" % (pre, op, r, k) in m}
                           for r in runs],
         })
         first = pre + "first_" + op
