@@ -108,9 +108,16 @@ clean=$(dbg_get stats transactions)
 echo "# a sleep: $clean transactions"
 failed=
 for n in $(seq 1 "$clean"); do
+	knob stats 0
 	knob nack_at "$n"
 	if ! sh -c "echo freeze >/sys/power/state" 2>/dev/null || ! chip_idle; then
 		failed="$failed $n"
+		# What the sleep did (its transactions may differ from the
+		# clean one's), and the driver's last words
+		echo "# NACK at $n: $(dbg_get stats transactions) transactions," \
+			"$(dbg_get stats ack_polls_early) early acknowledge polls," \
+			"transfer $(dbg_get state transfer), running $(dbg_get state running)"
+		dmesg | grep em7180 | tail -n 5 | sed 's/^/#   /'
 	fi
 	knob nack_at 0
 done
