@@ -20,10 +20,6 @@ CHANNELS="rot_quaternion accel_x accel_y accel_z anglvel_x anglvel_y anglvel_z t
 T=$(mktemp -d)
 PY=/usr/bin/python3
 
-chip_idle() {
-	[ "$(dbg_get state transfer)" = 0 ] && [ "$(dbg_get state running)" = 1 ]
-}
-
 # pick WORDS...: set P to one of the words, at random (no subshell: forks
 # are slow in UML and the point is many accesses).
 pick() {

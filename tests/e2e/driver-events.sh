@@ -99,9 +99,6 @@ wait "$reader" 2>/dev/null
 resets() {
 	dmesg | grep -c "em7180.*reset itself"
 }
-chip_idle() {
-	[ "$(dbg_get state transfer)" = 0 ] && [ "$(dbg_get state running)" = 1 ]
-}
 r0=$(resets)
 knob chip_reset 1
 knob chip_reset 1

@@ -28,28 +28,12 @@ ok "probe: an IIO device named em7180" test -n "$DEV"
 CLIENT=$(basename "$(readlink -f "$DEV/..")")
 like "bound to the I2C client at 0x28" "$CLIENT" '^[0-9]+-0028$'
 
-# UML forks slowly (tens of ms, more on 6.1 and KASAN kernels): the checks
-# made once per sweep step read debugfs with shell builtins only.
-
-# The simulator's state file into ST_transfer and ST_running.
-read_state() {
-	local k v
-	while read -r k v; do
-		case $k in
-		transfer) ST_transfer=$v ;;
-		running) ST_running=$v ;;
-		esac
-	done <"$SIM_DBG/state"
-}
+# The checks made once per sweep step read debugfs with shell builtins
+# only (read_state, tests/lib/em7180.sh).
 
 not_transfer() {
 	read_state
 	[ "$ST_transfer" = 0 ]
-}
-
-chip_idle() {
-	read_state
-	[ "$ST_transfer" = 0 ] && [ "$ST_running" = 1 ]
 }
 
 # The armed NACK was used: nack_at reads 0 once it fired.

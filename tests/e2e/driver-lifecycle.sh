@@ -37,14 +37,6 @@ transfer_mode_off() {
 	[ "$(dbg_get state transfer)" = 0 ] && [ $(($(algo_ctrl) & 0x80)) = 0 ]
 }
 
-chip_idle() {
-	transfer_mode_off && [ "$(dbg_get state running)" = 1 ]
-}
-
-in_transfer() {
-	[ "$(dbg_get state transfer)" = 1 ]
-}
-
 # ends DESC PID SECONDS: whether a background job of this shell ends in time;
 # its exit status in RC (not through ok: that runs its command in a subshell).
 ends() {

@@ -13,14 +13,6 @@
 
 TMP=$(mktemp -d)
 
-chip_idle() {
-	[ "$(dbg_get state transfer)" = 0 ] && [ "$(dbg_get state running)" = 1 ]
-}
-
-in_transfer() {
-	[ "$(dbg_get state transfer)" = 1 ]
-}
-
 # One system sleep: the devices suspend, 1 s passes, they resume.
 system_sleep() {
 	echo devices >/sys/power/pm_test &&
@@ -110,14 +102,17 @@ failed=
 for n in $(seq 1 "$clean"); do
 	knob stats 0
 	knob nack_at "$n"
-	if ! sh -c "echo freeze >/sys/power/state" 2>/dev/null || ! chip_idle; then
+	if ! err=$(sh -c "echo freeze >/sys/power/state" 2>&1) || ! chip_idle; then
 		failed="$failed $n"
-		# What the sleep did (its transactions may differ from the
-		# clean one's), and the driver's last words
-		echo "# NACK at $n: $(dbg_get stats transactions) transactions," \
+		# Whether the sleep failed, what it did (its transactions may
+		# differ from the clean one's), and the kernel's last words,
+		# the PM core's among them
+		read_state
+		echo "# NACK at $n: sleep ${err:-done}," \
+			"$(dbg_get stats transactions) transactions," \
 			"$(dbg_get stats ack_polls_early) early acknowledge polls," \
-			"transfer $(dbg_get state transfer), running $(dbg_get state running)"
-		dmesg | grep em7180 | tail -n 5 | sed 's/^/#   /'
+			"transfer $ST_transfer, running $ST_running"
+		dmesg | tail -n 12 | sed 's/^/#   /'
 	fi
 	knob nack_at 0
 done

@@ -21,10 +21,6 @@ set_word() {
 		dd of="$1" bs=1 seek=$((8 + 4 * ($2 - 1))) count=4 conv=notrunc status=none
 }
 
-chip_idle() {
-	[ "$(dbg_get state transfer)" = 0 ] && [ "$(dbg_get state running)" = 1 ]
-}
-
 DEV=$(em7180_dir)
 ok "probe: an IIO device named em7180" test -n "$DEV"
 like "bound to the I2C client at 0x28" "$(readlink -f "$DEV/..")" '/[0-9]+-0028$'

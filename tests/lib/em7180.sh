@@ -16,6 +16,31 @@ dbg_get() {
 	awk -v k="$2" '$1 == k { print $2 }' "$SIM_DBG/$1"
 }
 
+# read_state: the simulator's state file into ST_transfer and ST_running,
+# with shell builtins only: UML forks slowly (tens of ms, more on 6.1 and
+# KASAN kernels), and sweeps check the chip once per step.
+read_state() {
+	local k v
+	while read -r k v; do
+		case $k in
+		transfer) ST_transfer=$v ;;
+		running) ST_running=$v ;;
+		esac
+	done <"$SIM_DBG/state"
+}
+
+# chip_idle: no parameter transfer open, and the algorithm running.
+chip_idle() {
+	read_state
+	[ "$ST_transfer" = 0 ] && [ "$ST_running" = 1 ]
+}
+
+# in_transfer: a parameter transfer open (AlgorithmControl bit 7).
+in_transfer() {
+	read_state
+	[ "$ST_transfer" = 1 ]
+}
+
 # wait_for SECONDS COMMAND...: poll until COMMAND succeeds or time is up.
 wait_for() {
 	local end=$(($(date +%s%N) / 1000000 + $1 * 1000))
