@@ -141,19 +141,21 @@ EXPORT_SYMBOL_IF_KUNIT(em7180_float_g_to_lsb);
  * echoes @req. No public source gives the latency, and EM's driver allows
  * 1 s: it is learned, so that a steady firmware costs one poll per
  * parameter. The first poll waits the time learned so far; one in time
- * shrinks it by 1/8, never to a first wait found too short. After an
- * early one, polls follow at 1/8 of the time spent; that first wait
- * raised by 1/8 becomes the least, and the time it took the next wait.
- * The least is a requested wait, not a time measured after a sleep: a
- * sleep's own overrun is then not added to every later parameter.
+ * shrinks it by 1/8, not below the least. After an early one, polls
+ * follow at 1/8 of the time spent; the last early poll's time raised by
+ * 1/8 becomes the least, and the time it took the next wait. A time seen
+ * too short is below the latency: the least stays under 9/8 of it, and is
+ * never a wait already found too short. (A wait requested below the
+ * latency is often in time through its sleep's overrun alone; learnt from
+ * such waits, the least can settle just below the latency, where a poll
+ * comes early only now and then, at any later transfer.)
  */
 static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf, size_t len)
 {
 	unsigned int first = data->ack_wait_us ?: EM7180_ACK_WAIT_INIT_US;
 	unsigned int wait = first;
 	ktime_t start = ktime_get();
-	unsigned int took;
-	bool early = false;
+	unsigned int took, early = 0;
 	int ret;
 
 	for (;;) {
@@ -166,12 +168,12 @@ static int em7180_param_ack(struct em7180_data *data, u8 req, u8 *buf, size_t le
 			break;
 		if (took >= EM7180_ACK_TIMEOUT_US)
 			return -ETIMEDOUT;
-		early = true;
+		early = took;
 		wait = clamp(took / 8, EM7180_ACK_STEP_MIN_US, EM7180_ACK_STEP_MAX_US);
 	}
 
 	if (early) {
-		data->ack_min_us = min(max(data->ack_min_us, first + first / 8),
+		data->ack_min_us = min(max(data->ack_min_us, early + early / 8),
 				       EM7180_ACK_WAIT_MAX_US);
 		data->ack_wait_us = clamp(took, data->ack_min_us, EM7180_ACK_WAIT_MAX_US);
 	} else {
